@@ -1,0 +1,81 @@
+#pragma once
+/// Graded points on all curves of a domain (paper, section 3) and the resulting boundary
+/// polygons.
+///
+/// Each used curve is discretised once, in its own direction, from its start to its end,
+/// split at its corners (which are always points); the points follow rho by the method of
+/// section 3.1 applied to the curve's spacing coordinate (arc length, or for B-splines
+/// optionally the control-polygon length of section 3.3). Curve ends are the shared points
+/// of the domain. Loops are closed polygons with the domain on their left; embedded curves
+/// are polylines.
+
+#include <cstdint>
+#include <vector>
+
+#include "meshd/core/density.hpp"
+#include "meshd/core/domain.hpp"
+#include "meshd/core/observer.hpp"
+
+namespace meshd::core {
+
+using VertexId = std::uint32_t;
+inline constexpr VertexId kNoVertex = UINT32_MAX;
+inline constexpr CurveId kNoCurve = UINT32_MAX;
+
+struct BoundaryOptions {
+    SplineSpacing spline_spacing = SplineSpacing::ArcLength;
+    /// Refuse (TooManyPoints) when more boundary points would be made. 0: no limit.
+    size_t max_points = 0;
+};
+
+struct BoundarySegment {
+    VertexId a, b;  ///< domain on the left of a -> b for loop segments
+    CurveId curve;
+};
+
+struct Discretisation {
+    // Points, struct of arrays.
+    std::vector<double> x, y;
+    std::vector<CurveId> curve;   ///< owning curve; kNoCurve for domain points (curve ends)
+    std::vector<double> param;    ///< curve parameter t (0 for domain points)
+
+    /// Per domain curve, its vertices from start to end (empty for unused curves).
+    std::vector<std::vector<VertexId>> curve_vertices;
+    /// Loops in Domain::loops() order, each a cycle of vertices (the first not repeated).
+    std::vector<std::vector<VertexId>> loops;
+    /// Embedded curves in Domain::embedded() order, as polylines.
+    std::vector<std::vector<VertexId>> embedded;
+    /// All segments: the loops' (domain on the left) in loop order, then the embedded.
+    std::vector<BoundarySegment> segments;
+    size_t loop_segment_count = 0;
+
+    size_t size() const { return x.size(); }
+    Vec2 point(VertexId v) const { return {x[v], y[v]}; }
+};
+
+/// Throws GeometryError (density invalid on a curve, too many points, the discretised
+/// polygons crossing) or Cancelled.
+Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
+                                   const BoundaryOptions& options = {},
+                                   Observer* observer = nullptr);
+
+/// Sets the sources of eq. 6.1 from the discretisation: every segment's start and length.
+void set_interpolation_sources(SizeField& rho, const Discretisation& d);
+
+/// How well segment lengths follow rho: for each segment AB the ratio
+/// |AB| / ((rho(A) + rho(B)) / 2), where rho is the curve's density.
+struct SpacingStats {
+    size_t segments = 0;
+    double mean_abs_error = 0.0;  ///< mean |ratio - 1|
+    double max_abs_error = 0.0;   ///< max |ratio - 1|
+    double rms_error = 0.0;
+    double min_ratio = 0.0, max_ratio = 0.0;
+};
+/// Statistics per curve (indexed by CurveId; empty stats for unused curves) and overall.
+struct SpacingReport {
+    std::vector<SpacingStats> per_curve;
+    SpacingStats overall;
+};
+SpacingReport spacing_report(const Domain& domain, const SizeField& rho, const Discretisation& d);
+
+}  // namespace meshd::core

@@ -1,0 +1,120 @@
+#pragma once
+/// The domain model of the paper's section 2: named points P, curves C with their ends in P,
+/// loops of curves (one outer loop and holes) and embedded curves, with tags (boundary
+/// markers) on curves.
+///
+/// DomainSpec is the description as a user writes it (it maps one to one onto the
+/// `geometry` object of the service's request). build_domain() turns it into a Domain: it
+/// constructs every curve, checks everything listed in the error kinds of errors.hpp and
+/// fixes loop orientation so that the domain lies on the left of every loop (outer loop
+/// counter-clockwise, holes clockwise).
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "meshd/core/curve.hpp"
+
+namespace meshd::core {
+
+struct LineShape {};
+struct ArcShape {
+    Vec2 center;
+    ArcDirection direction = ArcDirection::Ccw;
+};
+struct BSplineShape {
+    std::vector<Vec2> control_points;
+    int degree = 3;
+    std::optional<std::vector<double>> knots;
+};
+struct SplineShape {
+    std::vector<Vec2> through;
+};
+using CurveShape = std::variant<LineShape, ArcShape, BSplineShape, SplineShape, NacaSpec, AirfoilSpec>;
+
+struct CurveSpec {
+    std::string name;
+    CurveShape shape;
+    /// End point names. Required for lines and arcs; optional for the others, and when given
+    /// they must name the points where the curve starts and ends.
+    std::optional<std::string> from, to;
+    /// Boundary marker; the curve's name when absent.
+    std::optional<std::string> tag;
+};
+
+struct LoopItem {
+    std::string curve;
+    bool reversed = false;  ///< traversed from its end to its start ("-name")
+};
+
+struct DomainSpec {
+    std::vector<std::pair<std::string, Vec2>> points;
+    std::vector<CurveSpec> curves;
+    std::vector<std::vector<LoopItem>> loops;
+    std::vector<std::string> embedded;
+};
+
+using PointId = std::uint32_t;
+using CurveId = std::uint32_t;
+using TagId = std::uint32_t;
+
+struct DomainPoint {
+    std::string name;  ///< empty for the unnamed end of a curve given without from/to
+    Vec2 position;
+};
+
+struct DomainCurve {
+    std::string name;
+    TagId tag;
+    std::unique_ptr<Curve> geometry;
+    PointId from, to;  ///< equal for a closed curve
+    double length;     ///< arc length
+};
+
+struct CurveUse {
+    CurveId curve;
+    bool reversed;
+};
+
+struct DomainLoop {
+    /// Curves in traversal order with the domain on the left.
+    std::vector<CurveUse> items;
+    int spec_index;  ///< position in DomainSpec::loops
+    bool hole;
+    double area;     ///< signed area of the traversal (> 0 outer, < 0 holes)
+};
+
+class Domain {
+public:
+    const std::vector<DomainPoint>& points() const { return points_; }
+    const std::vector<DomainCurve>& curves() const { return curves_; }
+    /// The outer loop first, then the holes in the order given.
+    const std::vector<DomainLoop>& loops() const { return loops_; }
+    const std::vector<CurveId>& embedded() const { return embedded_; }
+    const std::vector<std::string>& tags() const { return tags_; }
+    /// Bounding box of all used curves.
+    const Box& box() const { return box_; }
+    double extent() const { return box_.diagonal(); }
+    std::optional<CurveId> find_curve(const std::string& name) const;
+    size_t hole_count() const { return loops_.empty() ? 0 : loops_.size() - 1; }
+
+private:
+    friend Domain build_domain(const DomainSpec& spec);
+    std::vector<DomainPoint> points_;
+    std::vector<DomainCurve> curves_;
+    std::vector<DomainLoop> loops_;
+    std::vector<CurveId> embedded_;
+    std::vector<std::string> tags_;
+    std::map<std::string, CurveId> curve_index_;
+    Box box_;
+};
+
+/// Validates the description and builds the domain. Throws GeometryError naming the curves,
+/// loops or points involved. Cost: O(n log n) in the size of the flattened curves.
+Domain build_domain(const DomainSpec& spec);
+
+}  // namespace meshd::core

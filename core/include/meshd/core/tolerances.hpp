@@ -1,0 +1,38 @@
+#pragma once
+/// Every tolerance the core applies when it constructs or checks geometry for the user.
+/// Topological decisions of the mesher use exact predicates instead and need none.
+/// Lengths are relative to the extent (bounding-box diagonal) of the domain unless
+/// stated otherwise.
+
+namespace meshd::core::tol {
+
+/// Arc ends must be on one circle: | |B - S| - |A - S| | <= kArcRadius * |A - S|.
+inline constexpr double kArcRadius = 1e-9;
+
+/// A curve whose length is below this fraction of the domain extent is zero-length.
+inline constexpr double kMinCurveLength = 1e-12;
+
+/// Distinct named points closer than this fraction of the extent are refused as
+/// coincident; so are a curve's geometric ends that differ from its named points by more.
+inline constexpr double kPointMatch = 1e-9;
+
+/// Curves are flattened into polylines for the crossing and containment checks with this
+/// chordal deviation (fraction of the extent).
+inline constexpr double kFlattenDeviation = 1e-5;
+
+/// Relative accuracy of the piecewise-linear model of rho along a curve that the
+/// point generator of section 3.1 marches on.
+inline constexpr double kDensityInterpolation = 1e-3;
+
+/// Relative accuracy of numerical arc length (Gauss-Legendre, adaptive).
+inline constexpr double kArcLength = 1e-12;
+
+/// Default lower clamp of the density, as a fraction of the domain extent, used when the
+/// request gives no `min`: a density tending to zero cannot ask for endless refinement.
+inline constexpr double kDefaultMinSize = 1e-6;
+
+/// A corner of a curve is a break where the tangent direction turns by more than this
+/// (radians); corners are always points of the discretisation.
+inline constexpr double kCornerAngle = 1e-6;
+
+}  // namespace meshd::core::tol

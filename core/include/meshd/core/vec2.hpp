@@ -1,0 +1,50 @@
+#pragma once
+/// Plane vectors and points. A plain aggregate: cheap to copy, no invariants.
+
+#include <cmath>
+
+namespace meshd::core {
+
+struct Vec2 {
+    double x = 0.0;
+    double y = 0.0;
+
+    friend constexpr Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
+    friend constexpr Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
+    friend constexpr Vec2 operator-(Vec2 a) { return {-a.x, -a.y}; }
+    friend constexpr Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }
+    friend constexpr Vec2 operator*(Vec2 a, double s) { return {s * a.x, s * a.y}; }
+    friend constexpr Vec2 operator/(Vec2 a, double s) { return {a.x / s, a.y / s}; }
+    constexpr Vec2& operator+=(Vec2 b) { x += b.x; y += b.y; return *this; }
+    constexpr Vec2& operator-=(Vec2 b) { x -= b.x; y -= b.y; return *this; }
+    friend constexpr bool operator==(Vec2 a, Vec2 b) = default;
+};
+
+constexpr double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
+/// z component of the 3D cross product: positive when b is counter-clockwise of a.
+constexpr double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+inline double norm(Vec2 a) { return std::hypot(a.x, a.y); }
+constexpr double norm2(Vec2 a) { return dot(a, a); }
+inline double distance(Vec2 a, Vec2 b) { return norm(b - a); }
+/// a rotated by +90 degrees (the left normal direction of a).
+constexpr Vec2 perp(Vec2 a) { return {-a.y, a.x}; }
+inline bool is_finite(Vec2 a) { return std::isfinite(a.x) && std::isfinite(a.y); }
+constexpr Vec2 lerp(Vec2 a, Vec2 b, double t) { return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)}; }
+
+/// Axis-aligned bounding box; empty until the first point is added.
+struct Box {
+    Vec2 lo{HUGE_VAL, HUGE_VAL};
+    Vec2 hi{-HUGE_VAL, -HUGE_VAL};
+
+    void add(Vec2 p) {
+        lo = {std::fmin(lo.x, p.x), std::fmin(lo.y, p.y)};
+        hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y)};
+    }
+    void add(const Box& b) {
+        if (!b.empty()) { add(b.lo); add(b.hi); }
+    }
+    bool empty() const { return lo.x > hi.x; }
+    double diagonal() const { return empty() ? 0.0 : distance(lo, hi); }
+};
+
+}  // namespace meshd::core

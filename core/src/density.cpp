@@ -1,0 +1,206 @@
+// Density: expressions compiled by muParser, the per-curve table, eq. 6.1 inside, clamps.
+
+#include "meshd/core/density.hpp"
+
+#include <muParser.h>
+
+#include <cmath>
+
+#include "meshd/core/errors.hpp"
+#include "meshd/core/tolerances.hpp"
+
+namespace meshd::core {
+
+// ---------------------------------------------------------------------------------------
+// Expression
+
+namespace {
+
+double fn_pow(double a, double b) { return std::pow(a, b); }
+double fn_ln(double a) { return std::log(a); }
+
+}  // namespace
+
+struct Expression::Impl {
+    std::string text;
+    mu::Parser parser;
+    double x = 0.0, y = 0.0;
+
+    explicit Impl(std::string t) : text(std::move(t)) {
+        parser.DefineVar("x", &x);
+        parser.DefineVar("y", &y);
+        // muParser's own log is base 10 in some versions: make log natural, as documented.
+        parser.DefineFun("log", fn_ln);
+        parser.DefineFun("ln", fn_ln);
+        parser.DefineFun("pow", fn_pow);
+        parser.SetExpr(text);
+        // Compile now so that syntax errors and unknown names surface at once.
+        x = 1.0;
+        y = 1.0;
+        parser.Eval();
+    }
+};
+
+Expression::Expression(const std::string& text) {
+    if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+        throw GeometryError(GeometryErrorKind::DensityExpression, "the expression is empty");
+    try {
+        impl_ = std::make_unique<Impl>(text);
+    } catch (const mu::Parser::exception_type& e) {
+        std::string msg = "cannot parse \"" + text + "\": " + e.GetMsg();
+        if (e.GetPos() != static_cast<decltype(e.GetPos())>(-1))
+            msg += " (at position " + std::to_string(e.GetPos()) + ")";
+        throw GeometryError(GeometryErrorKind::DensityExpression, msg);
+    }
+}
+Expression::Expression(const Expression& other) : impl_(std::make_unique<Impl>(other.text())) {}
+Expression& Expression::operator=(const Expression& other) {
+    if (this != &other) impl_ = std::make_unique<Impl>(other.text());
+    return *this;
+}
+Expression::Expression(Expression&&) noexcept = default;
+Expression& Expression::operator=(Expression&&) noexcept = default;
+Expression::~Expression() = default;
+
+double Expression::operator()(double x, double y) const {
+    impl_->x = x;
+    impl_->y = y;
+    try {
+        return impl_->parser.Eval();
+    } catch (const mu::Parser::exception_type&) {
+        return std::nan("");
+    }
+}
+
+const std::string& Expression::text() const { return impl_->text; }
+
+// ---------------------------------------------------------------------------------------
+// SizeField
+
+namespace {
+
+std::string fmt_point(Vec2 p) {
+    return "(" + std::to_string(p.x) + ", " + std::to_string(p.y) + ")";
+}
+
+}  // namespace
+
+SizeField::SizeField(const DensitySpec& spec, const Domain& domain) {
+    using K = GeometryErrorKind;
+    auto make_source = [&](const ScalarSpec& s, Subject subject) {
+        Source src;
+        src.subject = subject;
+        if (const double* v = std::get_if<double>(&s)) {
+            if (!std::isfinite(*v) || *v <= 0.0)
+                throw GeometryError(K::DensityInvalid, "density must be finite and positive",
+                                    {std::move(subject)});
+            src.constant = *v;
+        } else {
+            try {
+                src.expr.emplace(std::get<std::string>(s));
+            } catch (GeometryError& e) {
+                throw GeometryError(e.kind(), e.what(), {std::move(subject)});
+            }
+        }
+        sources_.push_back(std::move(src));
+        return sources_.size() - 1;
+    };
+    if (spec.size) size_source_ = make_source(*spec.size, Subject::density("size"));
+
+    // Per-curve table: names first, then tags.
+    curve_source_.assign(domain.curves().size(), std::nullopt);
+    std::vector<bool> by_name(domain.curves().size(), false);
+    for (const auto& [key, value] : spec.curves) {
+        const size_t src = make_source(value, Subject::density("curves", {key}));
+        bool matched = false;
+        if (auto c = domain.find_curve(key)) {
+            curve_source_[*c] = src;
+            by_name[*c] = true;
+            matched = true;
+        }
+        for (CurveId c = 0; c < domain.curves().size(); ++c) {
+            if (domain.tags()[domain.curves()[c].tag] == key) {
+                matched = true;
+                if (!by_name[c]) curve_source_[c] = src;
+            }
+        }
+        if (!matched)
+            throw GeometryError(K::DensityMissing,
+                                "density.curves names \"" + key + "\", which is neither a curve nor a tag",
+                                {Subject::density("curves", {key})});
+    }
+
+    // Interior.
+    InteriorMode mode = spec.interior;
+    if (mode == InteriorMode::Default) mode = size_source_ ? InteriorMode::Expression : InteriorMode::Interpolate;
+    if (mode == InteriorMode::Expression) {
+        if (spec.interior_expression) {
+            interior_source_ = make_source(*spec.interior_expression, Subject::density("interior"));
+        } else if (size_source_) {
+            interior_source_ = size_source_;
+        } else {
+            throw GeometryError(K::DensityMissing, "no density inside the domain: give size or interior",
+                                {Subject::density("interior")});
+        }
+    }
+    interpolate_ = mode == InteriorMode::Interpolate;
+
+    // Every used curve needs a density.
+    std::vector<bool> used(domain.curves().size(), false);
+    for (const auto& l : domain.loops())
+        for (const auto& u : l.items) used[u.curve] = true;
+    for (CurveId c : domain.embedded()) used[c] = true;
+    for (CurveId c = 0; c < domain.curves().size(); ++c) {
+        if (!curve_source_[c]) curve_source_[c] = size_source_;
+        if (used[c] && !curve_source_[c])
+            throw GeometryError(K::DensityMissing,
+                                "no density for curve \"" + domain.curves()[c].name +
+                                    "\": give density.size or an entry in density.curves",
+                                {Subject::density("curves"), Subject::curve(domain.curves()[c].name)});
+    }
+
+    const double extent = domain.extent();
+    min_ = spec.min.value_or(tol::kDefaultMinSize * extent);
+    max_ = spec.max.value_or(HUGE_VAL);
+    if (spec.min && !(std::isfinite(*spec.min) && *spec.min > 0.0))
+        throw GeometryError(K::DensityInvalid, "density.min must be finite and positive",
+                            {Subject::density("min")});
+    if (spec.max && !(*spec.max > 0.0) )
+        throw GeometryError(K::DensityInvalid, "density.max must be positive", {Subject::density("max")});
+    if (max_ < min_)
+        throw GeometryError(K::DensityInvalid, "density.max is below density.min", {Subject::density("max")});
+    if (spec.gradation) {
+        if (!(std::isfinite(*spec.gradation) && *spec.gradation > 1.0))
+            throw GeometryError(K::DensityInvalid, "density.gradation must be a finite number above 1",
+                                {Subject::density("gradation")});
+        gradation_ = spec.gradation;
+    }
+}
+
+double SizeField::eval(const Source& s, Vec2 p) const {
+    const double v = s.constant ? *s.constant : (*s.expr)(p.x, p.y);
+    if (!std::isfinite(v) || v <= 0.0) {
+        std::string what = std::isfinite(v) ? (v == 0.0 ? "zero" : "negative (" + std::to_string(v) + ")")
+                                            : "not finite";
+        throw GeometryError(GeometryErrorKind::DensityInvalid,
+                            "density is " + what + " at " + fmt_point(p), {s.subject})
+            .at(p);
+    }
+    return std::fmin(std::fmax(v, min_), max_);
+}
+
+double SizeField::on_curve(CurveId c, Vec2 p) const { return eval(sources_[*curve_source_[c]], p); }
+
+double SizeField::interior(Vec2 p) const {
+    if (interpolate_) {
+        MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
+        return std::fmin(std::fmax((*idw_)(p), min_), max_);
+    }
+    return eval(sources_[*interior_source_], p);
+}
+
+void SizeField::set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths) {
+    idw_ = std::make_unique<InverseDistanceField>(std::move(starts), std::move(lengths));
+}
+
+}  // namespace meshd::core

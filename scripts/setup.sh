@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs the Debian packages meshd builds, tests and benchmarks with.
+# Safe to run again; needs root (or sudo) on a Debian 12 (bookworm) machine.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkgconf
+  libmuparser-dev nlohmann-json3-dev libspdlog-dev libcpp-httplib-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+echo "setup: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
