@@ -158,7 +158,12 @@ AirfoilPoints parse_airfoil_dat(std::string_view text) {
     }
     if (le == 0 || le + 1 == pts.size())
         throw bad_airfoil("the points do not go from the trailing edge round the leading edge and back");
-    const double gap = distance(pts.front(), pts.back());
+    double gap = distance(pts.front(), pts.back());
+    if (gap > 0.0 && gap <= 1e-9 * far) {
+        // Rounding left a gap (or a tiny overlap) at a sharp trailing edge: close it.
+        pts.back() = pts.front();
+        gap = 0.0;
+    }
     if (gap > 0.2 * far)
         throw bad_airfoil("the contour's ends are " + std::to_string(gap / far) +
                           " chords apart: not a trailing edge");

@@ -128,6 +128,10 @@ Domain build_domain(const DomainSpec& spec) {
         if (!is_finite(p))
             throw GeometryError(K::NonFinite, "point " + quoted(name) + " has a non-finite coordinate",
                                 {Subject::point(name)});
+        if (std::fabs(p.x) > tol::kMaxCoordinate || std::fabs(p.y) > tol::kMaxCoordinate)
+            throw GeometryError(K::NonFinite,
+                                "point " + quoted(name) + " is too far out (coordinates beyond 1e30)",
+                                {Subject::point(name)});
         if (point_index.count(name)) continue;  // the request layer refuses duplicate keys
         point_index[name] = static_cast<PointId>(d.points_.size());
         d.points_.push_back({name, p});
@@ -221,64 +225,20 @@ Domain build_domain(const DomainSpec& spec) {
         d.curves_.push_back(std::move(dc));
     }
 
-    // Loops and embedded curves: names, reuse, closure.
-    std::vector<int> used(d.curves_.size(), 0);
-    auto curve_of = [&](const std::string& name, Subject where) -> CurveId {
-        auto id = d.find_curve(name);
-        if (!id)
-            throw GeometryError(K::UnknownCurve, "curve " + quoted(name) + " is not defined",
-                                {std::move(where)});
-        if (used[*id]++)
-            throw GeometryError(K::CurveReused,
-                                "curve " + quoted(name) + " is used more than once in loops and embedded",
-                                {std::move(where), Subject::curve(name)});
-        return *id;
-    };
-    std::vector<DomainLoop> loops;
-    for (size_t li = 0; li < spec.loops.size(); ++li) {
-        const auto& items = spec.loops[li];
-        const int lix = static_cast<int>(li);
-        if (items.empty())
-            throw GeometryError(K::EmptyLoop, "loop " + std::to_string(li) + " has no curves",
-                                {Subject::loop(lix)});
-        DomainLoop loop{{}, lix, false, 0.0};
-        for (size_t j = 0; j < items.size(); ++j)
-            loop.items.push_back(
-                {curve_of(items[j].curve, Subject::loop(lix, {std::to_string(j)})), items[j].reversed});
-        for (size_t j = 0; j < loop.items.size(); ++j) {
-            const CurveUse& a = loop.items[j];
-            const CurveUse& b = loop.items[(j + 1) % loop.items.size()];
-            const DomainCurve& ca = d.curves_[a.curve];
-            const DomainCurve& cb = d.curves_[b.curve];
-            const PointId a_end = a.reversed ? ca.from : ca.to;
-            const PointId b_start = b.reversed ? cb.to : cb.from;
-            if (a_end != b_start) {
-                const size_t jn = (j + 1) % loop.items.size();
-                const std::string msg =
-                    loop.items.size() == 1
-                        ? "loop " + std::to_string(li) + ": curve " + quoted(ca.name) +
-                              " is not closed (it ends where it does not start)"
-                        : "loop " + std::to_string(li) + " does not close: curve " + quoted(ca.name) +
-                              " ends at " + (d.points_[a_end].name.empty() ? "an unnamed point" : quoted(d.points_[a_end].name)) +
-                              " but the next curve " + quoted(cb.name) + " starts at " +
-                              (d.points_[b_start].name.empty() ? "an unnamed point" : quoted(d.points_[b_start].name));
-                throw GeometryError(K::LoopNotClosed, msg,
-                                    {Subject::loop(lix, {std::to_string(jn)}), Subject::curve(ca.name),
-                                     Subject::curve(cb.name)});
-            }
-        }
-        loops.push_back(std::move(loop));
-    }
-    if (loops.empty()) throw GeometryError(K::NoOuterLoop, "the geometry has no loops", {});
-    for (size_t ei = 0; ei < spec.embedded.size(); ++ei)
-        d.embedded_.push_back(curve_of(spec.embedded[ei], Subject::embedded(static_cast<int>(ei))));
-
     // Extent (coarse) for the tolerances, then lengths and ends.
     Box coarse;
     for (CurveId c = 0; c < d.curves_.size(); ++c) {
-        if (!used[c]) continue;
         const Curve& g = *d.curves_[c].geometry;
-        for (int k = 0; k <= 64; ++k) coarse.add(g.point(g.t_begin() + (g.t_end() - g.t_begin()) * k / 64.0));
+        Box own;
+        for (int k = 0; k <= 64; ++k) own.add(g.point(g.t_begin() + (g.t_end() - g.t_begin()) * k / 64.0));
+        const double far = std::fmax(std::fmax(std::fabs(own.lo.x), std::fabs(own.hi.x)),
+                                     std::fmax(std::fabs(own.lo.y), std::fabs(own.hi.y)));
+        if (!(far <= tol::kMaxCoordinate))
+            throw GeometryError(K::NonFinite,
+                                "curve " + quoted(d.curves_[c].name) +
+                                    " reaches non-finite or too large coordinates (beyond 1e30)",
+                                {Subject::curve(d.curves_[c].name)});
+        coarse.add(own);
         coarse.add(d.points_[d.curves_[c].from].position);
         coarse.add(d.points_[d.curves_[c].to].position);
     }
@@ -331,6 +291,58 @@ Domain build_domain(const DomainSpec& spec) {
             }
         }
     }
+
+    // Loops and embedded curves: names, reuse, closure.
+    std::vector<int> used(d.curves_.size(), 0);
+    auto curve_of = [&](const std::string& name, Subject where) -> CurveId {
+        auto id = d.find_curve(name);
+        if (!id)
+            throw GeometryError(K::UnknownCurve, "curve " + quoted(name) + " is not defined",
+                                {std::move(where)});
+        if (used[*id]++)
+            throw GeometryError(K::CurveReused,
+                                "curve " + quoted(name) + " is used more than once in loops and embedded",
+                                {std::move(where), Subject::curve(name)});
+        return *id;
+    };
+    std::vector<DomainLoop> loops;
+    for (size_t li = 0; li < spec.loops.size(); ++li) {
+        const auto& items = spec.loops[li];
+        const int lix = static_cast<int>(li);
+        if (items.empty())
+            throw GeometryError(K::EmptyLoop, "loop " + std::to_string(li) + " has no curves",
+                                {Subject::loop(lix)});
+        DomainLoop loop{{}, lix, false, 0.0};
+        for (size_t j = 0; j < items.size(); ++j)
+            loop.items.push_back(
+                {curve_of(items[j].curve, Subject::loop(lix, {std::to_string(j)})), items[j].reversed});
+        for (size_t j = 0; j < loop.items.size(); ++j) {
+            const CurveUse& a = loop.items[j];
+            const CurveUse& b = loop.items[(j + 1) % loop.items.size()];
+            const DomainCurve& ca = d.curves_[a.curve];
+            const DomainCurve& cb = d.curves_[b.curve];
+            const PointId a_end = a.reversed ? ca.from : ca.to;
+            const PointId b_start = b.reversed ? cb.to : cb.from;
+            if (a_end != b_start) {
+                const size_t jn = (j + 1) % loop.items.size();
+                const std::string msg =
+                    loop.items.size() == 1
+                        ? "loop " + std::to_string(li) + ": curve " + quoted(ca.name) +
+                              " is not closed (it ends where it does not start)"
+                        : "loop " + std::to_string(li) + " does not close: curve " + quoted(ca.name) +
+                              " ends at " + (d.points_[a_end].name.empty() ? "an unnamed point" : quoted(d.points_[a_end].name)) +
+                              " but the next curve " + quoted(cb.name) + " starts at " +
+                              (d.points_[b_start].name.empty() ? "an unnamed point" : quoted(d.points_[b_start].name));
+                throw GeometryError(K::LoopNotClosed, msg,
+                                    {Subject::loop(lix, {std::to_string(jn)}), Subject::curve(ca.name),
+                                     Subject::curve(cb.name)});
+            }
+        }
+        loops.push_back(std::move(loop));
+    }
+    if (loops.empty()) throw GeometryError(K::NoOuterLoop, "the geometry has no loops", {});
+    for (size_t ei = 0; ei < spec.embedded.size(); ++ei)
+        d.embedded_.push_back(curve_of(spec.embedded[ei], Subject::embedded(static_cast<int>(ei))));
 
     // Flatten every used curve; end points are shared by index.
     const double dev = tol::kFlattenDeviation * extent;

@@ -50,61 +50,113 @@ DensityProfile sample_density(double length, const std::function<double(double)>
     return out;
 }
 
-std::vector<double> graded_stations(const DensityProfile& prof) {
+namespace {
+
+// Lo's march with the target scaled by lambda: from x_0 = 0, x_{k+1} solves
+// x_{k+1} - x_k = lambda (h(x_k) + h(x_{k+1})) / 2 on the piecewise-linear h (extended as a
+// constant beyond the last station). Stops after `steps` points, or, when steps == 0, at the
+// last point before M. Appends the points (x_0 included) to `out` when given; returns the
+// number of points made after x_0 and leaves the next point the march would make in `next`.
+size_t march(const DensityProfile& prof, double lambda, size_t steps, std::vector<double>* out,
+             double& last, double& next) {
     const auto& s = prof.s;
     const auto& h = prof.h;
     const size_t m = s.size() - 1;
     const double total = s.back();
-    std::vector<double> x{0.0};
+    if (out) out->push_back(0.0);
     double a = 0.0, ha = h[0];
     size_t i = 0;  // station interval [s_i, s_{i+1}] holding a
+    size_t made = 0;
     for (;;) {
-        // F(B) = B - a - (ha + h(B)) / 2 is -ha < 0 at B = a and linear on each interval.
-        double left = a, f_left = -ha;
+        // F(B) = B - a - lambda (ha + h(B)) / 2 is -lambda ha < 0 at B = a, linear on each
+        // interval: the first interval whose right end has F >= 0 holds the root.
+        double left = a, f_left = -lambda * ha;
+        double b = 0.0, hb = h[m];
         bool found = false;
-        double b = 0.0;
         size_t j = i;
         for (; j < m; ++j) {
             const double right = s[j + 1];
-            const double f_right = right - a - 0.5 * (ha + h[j + 1]);
+            const double f_right = right - a - 0.5 * lambda * (ha + h[j + 1]);
             if (f_right >= 0.0) {
                 b = left + (right - left) * (-f_left) / (f_right - f_left);
+                const double w = s[j + 1] > s[j] ? (b - s[j]) / (s[j + 1] - s[j]) : 1.0;
+                hb = h[j] + std::clamp(w, 0.0, 1.0) * (h[j + 1] - h[j]);
                 found = true;
                 break;
             }
             left = right;
             f_left = f_right;
         }
-        if (!found) break;
-        // h(b) on interval j
-        const double w = s[j + 1] > s[j] ? (b - s[j]) / (s[j + 1] - s[j]) : 1.0;
-        const double hb = h[j] + w * (h[j + 1] - h[j]);
-        if (!(b > a)) b = std::nextafter(a, total);  // guards a degenerate profile
-        x.push_back(b);
+        if (!found) {
+            // Beyond M, h is the constant h[m]: B - a = lambda (ha + h[m]) / 2.
+            j = m;
+            b = a + 0.5 * lambda * (ha + h[m]);
+            hb = h[m];
+        }
+        if (!(b > a)) b = std::nextafter(a, HUGE_VAL);  // a degenerate profile
+        if (steps == 0 ? b >= total : made == steps) {
+            last = a;
+            next = b;
+            return made;
+        }
+        if (out) out->push_back(b);
+        ++made;
         a = b;
         ha = hb;
-        i = j;
+        i = std::min(j, m - 1);
     }
-    // The last point x_k < M: either stretch so that x_k lands on M, or add the point the
-    // march would have placed next (beyond M) and shrink so that it lands on M.
-    const double last = x.back();
-    const double next = last + 0.5 * (ha + h[m]);
-    double scale;
-    if (x.size() == 1) {
-        x.push_back(next);
-        scale = total / next;
-    } else {
-        const double stretch = total / last;  // >= 1
-        const double shrink = total / next;   // < 1
-        if (std::fabs(std::log(shrink)) < std::fabs(std::log(stretch))) {
-            x.push_back(next);
-            scale = shrink;
+}
+
+}  // namespace
+
+std::vector<double> graded_stations(const DensityProfile& prof) {
+    const double total = prof.s.back();
+    // Unscaled march: the last point x_k before M and the next one beyond it.
+    double last = 0.0, next = 0.0;
+    const size_t k = march(prof, 1.0, 0, nullptr, last, next);
+    // n segments: k when stretching x_k onto M is the smaller change, k + 1 when shrinking
+    // the next point onto M is (3.21-3.22 distribute the leftover this way).
+    size_t n = k + 1;
+    if (k > 0 && std::fabs(std::log(total / last)) <= std::fabs(std::log(next / total))) n = k;
+    if (n == 1) return {0.0, total};
+    // The paper spreads the leftover over all segments in proportion to their lengths, which
+    // shifts every point; where rho is small far from the start that shift is many local
+    // sizes. Instead scale the target itself by a factor lambda, found so that the n-th
+    // point of the march lands on M: every segment keeps the same ratio to its target at its
+    // own place. The end of the march grows monotonically with lambda; regula falsi
+    // (Illinois) on a bracket finds it in a few marches.
+    auto end_at = [&](double lambda) {
+        double l = 0.0, nx = 0.0;
+        march(prof, lambda, n, nullptr, l, nx);
+        return l - total;  // position of the n-th point, relative to M
+    };
+    double lo = 0.5, hi = 2.0;
+    double f_lo = end_at(lo), f_hi = end_at(hi);
+    while (f_lo > 0.0) { hi = lo; f_hi = f_lo; lo *= 0.5; f_lo = end_at(lo); }
+    while (f_hi < 0.0) { lo = hi; f_lo = f_hi; hi *= 2.0; f_hi = end_at(hi); }
+    double lambda = 1.0;
+    int side = 0;
+    for (int iter = 0; iter < 100; ++iter) {
+        lambda = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+        const double f = end_at(lambda);
+        if (std::fabs(f) <= 1e-13 * total || hi - lo <= 1e-15 * hi) break;
+        if (f < 0.0) {
+            lo = lambda; f_lo = f;
+            if (side == -1) f_hi *= 0.5;
+            side = -1;
         } else {
-            scale = stretch;
+            hi = lambda; f_hi = f;
+            if (side == 1) f_lo *= 0.5;
+            side = 1;
         }
     }
-    for (double& v : x) v *= scale;
+    std::vector<double> x;
+    x.reserve(n + 1);
+    double l = 0.0, nx = 0.0;
+    march(prof, lambda, n, &x, l, nx);
+    // Rounding: points strictly increasing and the end exactly at M.
     x.back() = total;
+    for (size_t i = x.size() - 1; i-- > 1;) x[i] = std::min(x[i], std::nextafter(x[i + 1], 0.0));
     return x;
 }
 

@@ -7,11 +7,12 @@
 /// misses rho at its midpoint by more than kDensityInterpolation, so no dx has to be chosen).
 /// From A the next point B solves |AB| = (h(A) + h(B)) / 2 (3.4); on each station interval
 /// that relation is linear in B, so B is found exactly by scanning forward (3.13, 3.20).
-/// When the next point would pass M, the march ends with either the last point moved to M
-/// or one more point and all moved back to fit: all positions are scaled by M / s_end
-/// (3.21-3.22 distribute the leftover over all segments in proportion to their lengths,
-/// which is this scaling); of the two, the scale closer to 1 is taken. The end is hit
-/// exactly. Linear in m plus the number of points.
+/// When the next point would pass M, the number of segments n is fixed (the last point
+/// moved onto M, or one more point moved back onto it, whichever is the smaller change), and
+/// the leftover is spread over all segments (3.21-3.22): not by moving the points, which
+/// would shift them by many local sizes where rho is small, but by scaling the target by a
+/// common factor so that the n-th point lands on M. The end is hit exactly; cost: a few
+/// marches, linear in m plus the number of points.
 
 #include <cstddef>
 #include <functional>

@@ -35,4 +35,8 @@ inline constexpr double kDefaultMinSize = 1e-6;
 /// (radians); corners are always points of the discretisation.
 inline constexpr double kCornerAngle = 1e-6;
 
+/// Largest coordinate magnitude accepted (absolute). Exact predicates multiply up to four
+/// coordinates; this keeps every product far from overflow and underflow.
+inline constexpr double kMaxCoordinate = 1e30;
+
 }  // namespace meshd::core::tol

@@ -1,0 +1,63 @@
+#pragma once
+// Domains shared by the core tests.
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "meshd/core/domain.hpp"
+
+namespace meshd::test {
+
+using core::ArcDirection;
+using core::ArcShape;
+using core::CurveSpec;
+using core::DomainSpec;
+using core::LineShape;
+using core::LoopItem;
+using core::Vec2;
+
+inline CurveSpec line(std::string name, std::string from, std::string to,
+                      std::optional<std::string> tag = std::nullopt) {
+    return {std::move(name), LineShape{}, std::move(from), std::move(to), std::move(tag)};
+}
+
+inline CurveSpec arc(std::string name, std::string from, std::string to, Vec2 center,
+                     ArcDirection dir = ArcDirection::Ccw, std::optional<std::string> tag = std::nullopt) {
+    return {std::move(name), ArcShape{center, dir}, std::move(from), std::move(to), std::move(tag)};
+}
+
+inline std::vector<LoopItem> loop(std::initializer_list<const char*> names) {
+    std::vector<LoopItem> out;
+    for (const char* n : names) {
+        if (n[0] == '-') out.push_back({n + 1, true});
+        else out.push_back({n, false});
+    }
+    return out;
+}
+
+/// Unit square [0, 1]^2 with four tagged sides.
+inline DomainSpec unit_square() {
+    DomainSpec s;
+    s.points = {{"A", {0, 0}}, {"B", {1, 0}}, {"C", {1, 1}}, {"D", {0, 1}}};
+    s.curves = {line("bottom", "A", "B", "wall"), line("right", "B", "C", "outlet"),
+                line("top", "C", "D", "wall"), line("left", "D", "A", "inlet")};
+    s.loops = {loop({"bottom", "right", "top", "left"})};
+    return s;
+}
+
+/// NACA 0012 (chord 1, leading edge at the origin) in a circular far field of radius R
+/// centred at (0.5, 0).
+inline DomainSpec naca_in_circle(const std::string& code = "0012", double radius = 20.0) {
+    DomainSpec s;
+    s.points = {{"F", {0.5 + radius, 0.0}}};
+    core::NacaSpec naca;
+    naca.code = code;
+    s.curves.push_back({"wing", naca, std::nullopt, std::nullopt, std::string("wall")});
+    s.curves.push_back(arc("farfield", "F", "F", {0.5, 0.0}, ArcDirection::Ccw, "farfield"));
+    s.loops = {loop({"farfield"}), loop({"wing"})};
+    return s;
+}
+
+}  // namespace meshd::test

@@ -1,0 +1,186 @@
+// Graded points on the curves of whole domains.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fixtures.hpp"
+#include "meshd/core/boundary.hpp"
+#include "meshd/core/errors.hpp"
+
+using namespace meshd::core;
+using namespace meshd::test;
+
+namespace {
+
+double polygon_area(const Discretisation& d, const std::vector<VertexId>& cycle) {
+    double a = 0;
+    for (size_t i = 0; i < cycle.size(); ++i) a += cross(d.point(cycle[i]), d.point(cycle[(i + 1) % cycle.size()]));
+    return a / 2;
+}
+
+// Every segment within `tol` of (rho(A) + rho(B)) / 2 on curves long against rho.
+void expect_spacing_law(const Domain& dom, const SizeField& rho, const Discretisation& d, double tol) {
+    const SpacingReport r = spacing_report(dom, rho, d);
+    for (CurveId c = 0; c < dom.curves().size(); ++c) {
+        if (r.per_curve[c].segments == 0) continue;
+        EXPECT_LT(r.per_curve[c].max_abs_error, tol)
+            << dom.curves()[c].name << ": " << r.per_curve[c].segments << " segments, ratios "
+            << r.per_curve[c].min_ratio << " .. " << r.per_curve[c].max_ratio;
+    }
+}
+
+}  // namespace
+
+TEST(Boundary, SquareWithUniformDensity) {
+    const Domain dom = build_domain(unit_square());
+    DensitySpec spec;
+    spec.size = 0.05;
+    SizeField rho(spec, dom);
+    const Discretisation d = discretise_boundary(dom, rho);
+    EXPECT_EQ(d.size(), 80u);
+    ASSERT_EQ(d.loops.size(), 1u);
+    EXPECT_EQ(d.loops[0].size(), 80u);
+    EXPECT_EQ(d.segments.size(), 80u);
+    EXPECT_NEAR(polygon_area(d, d.loops[0]), 1.0, 1e-12);
+    // Corners are exact points shared by two curves.
+    for (const auto& p : dom.points()) {
+        int found = 0;
+        for (VertexId v = 0; v < d.size(); ++v) found += d.point(v) == p.position;
+        EXPECT_EQ(found, 1);
+    }
+    // Consecutive segments chain, and every segment is as long as rho.
+    for (size_t i = 0; i < d.segments.size(); ++i) {
+        EXPECT_EQ(d.segments[i].b, d.segments[(i + 1) % d.segments.size()].a);
+        EXPECT_NEAR(distance(d.point(d.segments[i].a), d.point(d.segments[i].b)), 0.05, 1e-12);
+    }
+}
+
+TEST(Boundary, AirfoilInFarFieldFollowsRhoAndHasTheDomainOnTheLeft) {
+    const Domain dom = build_domain(naca_in_circle("0012", 20.0));
+    DensitySpec spec;
+    spec.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
+                   {"wing", std::string("0.005 + 0.05*sqrt((x+0.01)^2+y^2)")}};
+    SizeField rho(spec, dom);
+    const Discretisation d = discretise_boundary(dom, rho);
+    ASSERT_EQ(d.loops.size(), 2u);
+    EXPECT_GT(polygon_area(d, d.loops[0]), 0.0);  // outer counter-clockwise
+    EXPECT_LT(polygon_area(d, d.loops[1]), 0.0);  // hole clockwise
+    expect_spacing_law(dom, rho, d, 0.05);
+    // The far-field points are on the circle, the wing's on the section.
+    for (VertexId v : d.curve_vertices[*dom.find_curve("farfield")])
+        EXPECT_NEAR(distance(d.point(v), {0.5, 0}), 20.0, 1e-12);
+    // The trailing edge, a corner, is a point.
+    bool te = false;
+    for (VertexId v = 0; v < d.size(); ++v) te |= distance(d.point(v), {1, 0}) < 1e-15;
+    EXPECT_TRUE(te);
+}
+
+TEST(Boundary, FiveDigitAirfoilAndSplineSpacingModes) {
+    for (auto mode : {SplineSpacing::ArcLength, SplineSpacing::ControlPolygon}) {
+        DomainSpec s = naca_in_circle("23012", 10.0);
+        // Replace the analytic section by a spline through 161 of its points, as a .dat
+        // airfoil would be.
+        NacaSpec ns;
+        ns.code = "23012";
+        auto exact = make_naca(ns);
+        std::vector<Vec2> pts;
+        for (int i = 0; i <= 160; ++i) pts.push_back(exact->point(2.0 * i / 160.0));
+        pts.back() = pts.front();
+        s.curves[0].shape = SplineShape{pts};
+        const Domain dom = build_domain(s);
+        DensitySpec spec;
+        spec.curves = {{"farfield", 1.0}, {"wall", std::string("0.004 + 0.04*sqrt((x-0.3)^2+y^2)")}};
+        SizeField rho(spec, dom);
+        BoundaryOptions opt;
+        opt.spline_spacing = mode;
+        const Discretisation d = discretise_boundary(dom, rho, opt);
+        const SpacingReport r = spacing_report(dom, rho, d);
+        const auto& wing = r.per_curve[*dom.find_curve("wing")];
+        EXPECT_GT(wing.segments, 50u);
+        if (mode == SplineSpacing::ArcLength) EXPECT_LT(wing.max_abs_error, 0.05);
+        else EXPECT_LT(wing.mean_abs_error, 0.5);  // measured, not guaranteed: see the README
+    }
+}
+
+TEST(Boundary, EmbeddedCurvesShareTheirEnds) {
+    DomainSpec s = unit_square();
+    s.points.push_back({"M", {0.5, 0.5}});
+    s.curves.push_back(line("wake", "C", "M", "wake"));
+    s.embedded = {"wake"};
+    const Domain dom = build_domain(s);
+    DensitySpec spec;
+    spec.size = 0.1;
+    SizeField rho(spec, dom);
+    const Discretisation d = discretise_boundary(dom, rho);
+    ASSERT_EQ(d.embedded.size(), 1u);
+    const auto& w = d.embedded[0];
+    EXPECT_EQ(d.point(w.front()), (Vec2{1, 1}));
+    EXPECT_EQ(d.point(w.back()), (Vec2{0.5, 0.5}));
+    // C is one vertex for the loop and the wake.
+    EXPECT_NE(std::find(d.loops[0].begin(), d.loops[0].end(), w.front()), d.loops[0].end());
+    EXPECT_EQ(d.segments.size() - d.loop_segment_count, w.size() - 1);
+}
+
+TEST(Boundary, FullCircleHoleAndReversedCurves) {
+    DomainSpec s = unit_square();
+    s.loops = {loop({"-left", "-top", "-right", "-bottom"})};
+    s.points.push_back({"P", {0.3, 0.5}});
+    s.curves.push_back(arc("hole", "P", "P", {0.5, 0.5}, ArcDirection::Cw));
+    s.loops.push_back(loop({"hole"}));
+    const Domain dom = build_domain(s);
+    DensitySpec spec;
+    spec.size = std::string("0.02 + 0.05 * x");
+    SizeField rho(spec, dom);
+    const Discretisation d = discretise_boundary(dom, rho);
+    EXPECT_NEAR(polygon_area(d, d.loops[0]), 1.0, 1e-12);
+    EXPECT_LT(polygon_area(d, d.loops[1]), 0.0);
+    expect_spacing_law(dom, rho, d, 0.05);
+}
+
+TEST(Boundary, CoarseDensityAcrossANarrowGapIsReported) {
+    // A narrow annulus: chords of the outer circle cut into the hole when rho is large.
+    DomainSpec s;
+    s.points = {{"P", {1.02, 0}}, {"Q", {1.0, 0}}};
+    s.curves = {arc("outer", "P", "P", {0, 0}), arc("inner", "Q", "Q", {0, 0})};
+    s.loops = {loop({"outer"}), loop({"inner"})};
+    const Domain dom = build_domain(s);
+    DensitySpec spec;
+    spec.size = 0.6;
+    SizeField rho(spec, dom);
+    try {
+        discretise_boundary(dom, rho);
+        ADD_FAILURE() << "crossing discretisation accepted";
+    } catch (const GeometryError& e) {
+        EXPECT_EQ(e.kind(), GeometryErrorKind::DiscretisationCrosses);
+        ASSERT_EQ(e.subjects().size(), 2u);
+    }
+    spec.size = 0.005;  // fine enough: accepted
+    SizeField fine(spec, dom);
+    EXPECT_NO_THROW(discretise_boundary(dom, fine));
+}
+
+TEST(Boundary, PointLimitAndCancellation) {
+    const Domain dom = build_domain(unit_square());
+    DensitySpec spec;
+    spec.size = 0.001;
+    SizeField rho(spec, dom);
+    BoundaryOptions opt;
+    opt.max_points = 1000;
+    EXPECT_THROW(discretise_boundary(dom, rho, opt), GeometryError);
+    struct Stop : Observer {
+        bool should_stop() override { return true; }
+    } stop;
+    EXPECT_THROW(discretise_boundary(dom, rho, {}, &stop), Cancelled);
+}
+
+TEST(Boundary, DeterministicVertexOrder) {
+    const Domain dom = build_domain(naca_in_circle());
+    DensitySpec spec;
+    spec.size = std::string("0.01 + 0.1*sqrt(x^2+y^2)");
+    SizeField rho(spec, dom);
+    const Discretisation a = discretise_boundary(dom, rho);
+    const Discretisation b = discretise_boundary(dom, rho);
+    EXPECT_EQ(a.x, b.x);
+    EXPECT_EQ(a.y, b.y);
+}

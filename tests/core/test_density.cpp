@@ -1,0 +1,195 @@
+// Density expressions, the per-curve table, clamps, errors, and eq. 6.1 with its bound.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "fixtures.hpp"
+#include "meshd/core/boundary.hpp"
+#include "meshd/core/density.hpp"
+#include "meshd/core/errors.hpp"
+
+using namespace meshd::core;
+using namespace meshd::test;
+
+TEST(Expression, OperatorsAndFunctionsOfTheContract) {
+    EXPECT_DOUBLE_EQ(Expression("x + y * 2 - 1 / 4")(1, 2), 4.75);
+    EXPECT_DOUBLE_EQ(Expression("x ^ 2")(3, 0), 9.0);
+    EXPECT_DOUBLE_EQ(Expression("x < 0.5 ? 1 : 2")(0.2, 0), 1.0);
+    EXPECT_DOUBLE_EQ(Expression("x < 0.5 ? 1 : 2")(0.7, 0), 2.0);
+    EXPECT_DOUBLE_EQ(Expression("x > 0 && y > 0 ? 1 : 0")(1, -1), 0.0);
+    EXPECT_DOUBLE_EQ(Expression("x > 0 || y > 0 ? 1 : 0")(1, -1), 1.0);
+    EXPECT_DOUBLE_EQ(Expression("x >= 1 ? 1 : 0")(1, 0), 1.0);
+    EXPECT_DOUBLE_EQ(Expression("x == y ? 1 : 0")(2, 2), 1.0);
+    EXPECT_DOUBLE_EQ(Expression("sqrt(x) + abs(y)")(4, -3), 5.0);
+    EXPECT_NEAR(Expression("log(x)")(std::exp(2.0), 0), 2.0, 1e-15);  // natural logarithm
+    EXPECT_NEAR(Expression("exp(x)")(1, 0), std::exp(1.0), 1e-15);
+    EXPECT_NEAR(Expression("sin(x) + cos(y) + tan(x)")(0.3, 0.2), std::sin(0.3) + std::cos(0.2) + std::tan(0.3), 1e-15);
+    EXPECT_DOUBLE_EQ(Expression("min(x, y) + max(x, y)")(1, 5), 6.0);
+    EXPECT_DOUBLE_EQ(Expression("pow(x, 3)")(2, 0), 8.0);
+    // The paper's Fig. 10 density.
+    Expression fig10("x < 0.5 ? 0.1*sqrt(x^2+y^2)+0.007 : 0.1*sqrt((x-1.008930411365)^2+y^2)+0.006");
+    EXPECT_NEAR(fig10(0.3, 0.4), 0.1 * 0.5 + 0.007, 1e-15);
+    // Copies evaluate independently.
+    Expression copy = fig10;
+    EXPECT_EQ(copy(0.3, 0.4), fig10(0.3, 0.4));
+}
+
+TEST(Expression, SyntaxErrorsAreGeometryErrors) {
+    for (const char* bad : {"x +", "sqrt(", "foo(x)", "z * 2", "", "x ? 1", "1 +* 2"}) {
+        try {
+            Expression e(bad);
+            ADD_FAILURE() << "accepted " << bad;
+        } catch (const GeometryError& e) {
+            EXPECT_EQ(e.kind(), GeometryErrorKind::DensityExpression) << bad;
+        }
+    }
+}
+
+namespace {
+
+GeometryError size_field_error(const DensitySpec& spec, const Domain& d) {
+    try {
+        SizeField f(spec, d);
+        // Evaluate on every curve's start so that value errors surface too.
+        for (CurveId c = 0; c < d.curves().size(); ++c) f.on_curve(c, d.points()[d.curves()[c].from].position);
+        if (!f.interpolates()) f.interior({0.5, 0.5});
+    } catch (const GeometryError& e) {
+        return e;
+    }
+    ADD_FAILURE() << "accepted";
+    return GeometryError(GeometryErrorKind::BadParameter, "none");
+}
+
+}  // namespace
+
+TEST(SizeField, PerCurveByNameBeatsTagBeatsSize) {
+    const Domain d = build_domain(unit_square());
+    DensitySpec spec;
+    spec.size = 0.1;
+    spec.curves = {{"wall", 0.05}, {"top", std::string("0.02 + 0*x")}};
+    SizeField f(spec, d);
+    EXPECT_DOUBLE_EQ(f.on_curve(0, {0.5, 0}), 0.05);  // bottom: tag wall
+    EXPECT_DOUBLE_EQ(f.on_curve(2, {0.5, 1}), 0.02);  // top: its own name
+    EXPECT_DOUBLE_EQ(f.on_curve(1, {1, 0.5}), 0.1);   // right: size
+    EXPECT_DOUBLE_EQ(f.interior({0.5, 0.5}), 0.1);
+    EXPECT_FALSE(f.interpolates());
+}
+
+TEST(SizeField, ClampsApply) {
+    const Domain d = build_domain(unit_square());
+    DensitySpec spec;
+    spec.size = std::string("x");
+    spec.min = 0.2;
+    spec.max = 0.5;
+    SizeField f(spec, d);
+    EXPECT_DOUBLE_EQ(f.interior({0.1, 0.5}), 0.2);
+    EXPECT_DOUBLE_EQ(f.interior({0.3, 0.5}), 0.3);
+    EXPECT_DOUBLE_EQ(f.interior({0.9, 0.5}), 0.5);
+}
+
+TEST(SizeField, InvalidValuesNameThePoint) {
+    const Domain d = build_domain(unit_square());
+    DensitySpec spec;
+    spec.size = std::string("x - 0.5");  // negative on the left half
+    SizeField f(spec, d);
+    try {
+        f.interior({0.25, 0.5});
+        ADD_FAILURE();
+    } catch (const GeometryError& e) {
+        EXPECT_EQ(e.kind(), GeometryErrorKind::DensityInvalid);
+        ASSERT_NE(e.where(), nullptr);
+        EXPECT_EQ(e.where()->x, 0.25);
+        EXPECT_EQ(e.subjects()[0].kind, Subject::Kind::Density);
+        EXPECT_EQ(e.subjects()[0].name, "size");
+    }
+    spec.size = std::string("1 / (x - 0.5)");  // division by zero at x = 0.5: infinite
+    SizeField g(spec, d);
+    EXPECT_THROW(g.interior({0.5, 0.5}), GeometryError);
+    spec.size = std::string("sqrt(x - 2)");  // NaN
+    SizeField h(spec, d);
+    EXPECT_THROW(h.interior({0.5, 0.5}), GeometryError);
+    spec.size = 0.0;
+    EXPECT_EQ(size_field_error(spec, d).kind(), GeometryErrorKind::DensityInvalid);
+    spec.size = -1.0;
+    EXPECT_EQ(size_field_error(spec, d).kind(), GeometryErrorKind::DensityInvalid);
+    spec.size = NAN;
+    EXPECT_EQ(size_field_error(spec, d).kind(), GeometryErrorKind::DensityInvalid);
+}
+
+TEST(SizeField, SpecErrors) {
+    const Domain d = build_domain(unit_square());
+    DensitySpec spec;
+    spec.size = std::string("x +");
+    auto e = size_field_error(spec, d);
+    EXPECT_EQ(e.kind(), GeometryErrorKind::DensityExpression);
+    EXPECT_EQ(e.subjects()[0].name, "size");
+
+    spec = {};
+    spec.curves = {{"wall", 0.1}};
+    e = size_field_error(spec, d);  // right and left have no density
+    EXPECT_EQ(e.kind(), GeometryErrorKind::DensityMissing);
+
+    spec = {};
+    spec.size = 0.1;
+    spec.curves = {{"nonexistent", 0.1}};
+    e = size_field_error(spec, d);
+    EXPECT_EQ(e.kind(), GeometryErrorKind::DensityMissing);
+    EXPECT_EQ(e.subjects()[0].field, (std::vector<std::string>{"nonexistent"}));
+
+    spec = {};
+    spec.size = 0.1;
+    spec.gradation = 0.9;
+    EXPECT_EQ(size_field_error(spec, d).kind(), GeometryErrorKind::DensityInvalid);
+    spec.gradation = std::nullopt;
+    spec.min = 0.5;
+    spec.max = 0.1;
+    EXPECT_EQ(size_field_error(spec, d).kind(), GeometryErrorKind::DensityInvalid);
+}
+
+TEST(InverseDistance, TreecodeMeetsItsBoundAgainstTheExactFormula) {
+    // The paper's Fig. 9 setting: NACA 0012 in a far field, boundary densities per loop.
+    const Domain d = build_domain(naca_in_circle("0012", 20.0));
+    DensitySpec spec;
+    spec.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
+                   {"wing", std::string("0.05*sqrt((x+0.01)^2+y^2)")}};
+    spec.min = 1e-3;
+    SizeField f(spec, d);
+    ASSERT_TRUE(f.interpolates());
+    const Discretisation disc = discretise_boundary(d, f);
+    std::vector<Vec2> starts;
+    std::vector<double> lengths;
+    for (const auto& s : disc.segments) {
+        starts.push_back(disc.point(s.a));
+        lengths.push_back(distance(disc.point(s.a), disc.point(s.b)));
+    }
+    for (double tol : {1e-2, 1e-3, 1e-4}) {
+        InverseDistanceField idw(starts, lengths, tol);
+        std::mt19937_64 rng(7);
+        std::uniform_real_distribution<double> r(0.0, 1.0);
+        double worst = 0.0;
+        for (int k = 0; k < 3000; ++k) {
+            // Half the probes near the airfoil, half anywhere in the far field.
+            Vec2 p;
+            if (k % 2) {
+                p = {-0.1 + 1.2 * r(rng), -0.2 + 0.4 * r(rng)};
+            } else {
+                const double rad = 20 * std::sqrt(r(rng)), ang = 2 * std::numbers::pi * r(rng);
+                p = {0.5 + rad * std::cos(ang), rad * std::sin(ang)};
+            }
+            const double exact = idw.exact(p);
+            worst = std::fmax(worst, std::fabs(idw(p) - exact) / exact);
+        }
+        EXPECT_LE(worst, tol) << "tolerance " << tol;
+        EXPECT_GT(worst, 0.0);  // the approximation is really used
+    }
+    // At a boundary vertex the formula gives that segment's length.
+    InverseDistanceField idw(starts, lengths);
+    EXPECT_DOUBLE_EQ(idw(starts[10]), lengths[10]);
+    // Through the size field, after the boundary is known.
+    set_interpolation_sources(f, disc);
+    const double mid = f.interior({0.5, 0.5});
+    EXPECT_GT(mid, 0.0);
+    EXPECT_NEAR(mid, idw.exact({0.5, 0.5}), 1e-3 * mid);
+}
