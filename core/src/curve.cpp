@@ -45,22 +45,49 @@ double gauss_length(const Curve& c, double a, double b) {
     return sum * half;
 }
 
+// Arc length on a piece [t0, t1] is modelled by the cubic Hermite interpolant of s(t) with
+// the end values and the end speeds |C'|. Pieces are split until that cubic matches the
+// Gauss-Legendre integral at the piece's quarter points within kArcLength relative to the
+// curve's length, so both directions (s of t and t of s) need no curve evaluations.
 struct Piece {
     double t0, t1;  // parameter interval
-    double s0;      // arc length at t0
+    double s0, s1;  // arc length at t0, t1
+    double d0, d1;  // speed |C'| at t0, t1
 };
+
+// Hermite cubic of a piece at normalised u in [0, 1] (value and derivative in u).
+inline double hermite(const Piece& p, double u) {
+    const double dt = p.t1 - p.t0;
+    const double u2 = u * u, u3 = u2 * u;
+    return (2 * u3 - 3 * u2 + 1) * p.s0 + (u3 - 2 * u2 + u) * dt * p.d0 + (-2 * u3 + 3 * u2) * p.s1 +
+           (u3 - u2) * dt * p.d1;
+}
+inline double hermite_du(const Piece& p, double u) {
+    const double dt = p.t1 - p.t0;
+    const double u2 = u * u;
+    return (6 * u2 - 6 * u) * p.s0 + (3 * u2 - 4 * u + 1) * dt * p.d0 + (-6 * u2 + 6 * u) * p.s1 +
+           (3 * u2 - 2 * u) * dt * p.d1;
+}
 
 class ArcLengthParametrisation final : public CurveParametrisation {
 public:
-    explicit ArcLengthParametrisation(const Curve& c) : curve_(c) {
+    explicit ArcLengthParametrisation(const Curve& c) {
         std::vector<double> cuts{c.t_begin()};
         for (double b : c.breaks()) cuts.push_back(b);
         cuts.push_back(c.t_end());
+        // A first estimate of the length sets the absolute accuracy.
+        double rough = 0.0;
+        for (size_t i = 0; i + 1 < cuts.size(); ++i) rough += gauss_length(c, cuts[i], cuts[i + 1]);
+        abs_tol_ = tol::kArcLength * std::max(rough, 1e-300) + 1e-300;
         double s = 0.0;
         for (size_t i = 0; i + 1 < cuts.size(); ++i) {
-            if (cuts[i + 1] > cuts[i]) integrate(cuts[i], cuts[i + 1], gauss_length(c, cuts[i], cuts[i + 1]), 0, s);
+            if (!(cuts[i + 1] > cuts[i])) continue;
+            const double ta = cuts[i], tb = cuts[i + 1];
+            // One-sided speeds at breaks: sample just inside the piece.
+            const double eps = 1e-12 * (tb - ta);
+            build(c, ta, tb, norm(c.derivative(ta + eps)), norm(c.derivative(tb - eps)), 0, s);
         }
-        if (pieces_.empty()) pieces_.push_back({c.t_begin(), c.t_end(), 0.0});
+        if (pieces_.empty()) pieces_.push_back({c.t_begin(), c.t_end(), 0.0, 0.0, 0.0, 0.0});
         total_ = s;
     }
 
@@ -72,21 +99,20 @@ public:
         auto it = std::upper_bound(pieces_.begin(), pieces_.end(), s,
                                    [](double v, const Piece& p) { return v < p.s0; });
         const Piece& p = *(it - 1);
-        const double target = s - p.s0;
-        const double piece_len = (it == pieces_.end() ? total_ : it->s0) - p.s0;
-        double lo = p.t0, hi = p.t1;
-        double t = piece_len > 0.0 ? p.t0 + (p.t1 - p.t0) * (target / piece_len) : p.t0;
+        if (!(p.s1 > p.s0)) return p.t0;
+        // Solve hermite(u) = s on [0, 1]: Newton, safeguarded by bisection.
+        double lo = 0.0, hi = 1.0;
+        double u = (s - p.s0) / (p.s1 - p.s0);
         for (int iter = 0; iter < 60; ++iter) {
-            const double f = gauss_length(curve_, p.t0, t) - target;
-            if (std::fabs(f) <= 1e-14 * std::max(total_, 1e-300)) break;
-            if (f > 0.0) hi = t; else lo = t;
-            const double speed = norm(curve_.derivative(t));
-            double next = speed > 0.0 ? t - f / speed : 0.5 * (lo + hi);
+            const double f = hermite(p, u) - s;
+            if (f > 0.0) hi = u; else lo = u;
+            const double df = hermite_du(p, u);
+            double next = df > 0.0 ? u - f / df : 0.5 * (lo + hi);
             if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-            if (next == t || hi - lo <= 1e-16 * std::fabs(hi)) { t = next; break; }
-            t = next;
+            if (std::fabs(next - u) <= 1e-15) { u = next; break; }
+            u = next;
         }
-        return t;
+        return p.t0 + u * (p.t1 - p.t0);
     }
 
     double spacing_at(double t) const override {
@@ -95,31 +121,33 @@ public:
         auto it = std::upper_bound(pieces_.begin(), pieces_.end(), t,
                                    [](double v, const Piece& p) { return v < p.t0; });
         const Piece& p = *(it - 1);
-        return p.s0 + gauss_length(curve_, p.t0, std::min(t, p.t1));
+        return hermite(p, (std::min(t, p.t1) - p.t0) / (p.t1 - p.t0));
     }
 
 private:
-    // Adaptive Gauss-Legendre: split until the two halves agree with the whole.
-    void integrate(double a, double b, double whole, int depth, double& s) {
+    void build(const Curve& c, double a, double b, double da, double db, int depth, double& s) {
         const double m = 0.5 * (a + b);
-        const double left = gauss_length(curve_, a, m);
-        const double right = gauss_length(curve_, m, b);
-        const double err = std::fabs(left + right - whole);
-        if (depth >= 40 || err <= tol::kArcLength * std::max(left + right, 1e-300) ||
-            !(m > a && m < b)) {
-            pieces_.push_back({a, m, s});
-            s += left;
-            pieces_.push_back({m, b, s});
-            s += right;
+        const double q1 = 0.25 * (3 * a + b), q3 = 0.25 * (a + 3 * b);
+        const double l1 = gauss_length(c, a, q1), l2 = gauss_length(c, q1, m);
+        const double l3 = gauss_length(c, m, q3), l4 = gauss_length(c, q3, b);
+        const double whole = l1 + l2 + l3 + l4;
+        Piece p{a, b, s, s + whole, da, db};
+        const double err = std::max({std::fabs(hermite(p, 0.25) - (s + l1)),
+                                     std::fabs(hermite(p, 0.5) - (s + l1 + l2)),
+                                     std::fabs(hermite(p, 0.75) - (s + l1 + l2 + l3))});
+        if (depth >= 50 || err <= abs_tol_ || !(m > a && m < b)) {
+            pieces_.push_back(p);
+            s += whole;
             return;
         }
-        integrate(a, m, left, depth + 1, s);
-        integrate(m, b, right, depth + 1, s);
+        const double dm = norm(c.derivative(m));
+        build(c, a, m, da, dm, depth + 1, s);
+        build(c, m, b, dm, db, depth + 1, s);
     }
 
-    const Curve& curve_;
     std::vector<Piece> pieces_;
     double total_ = 0.0;
+    double abs_tol_ = 0.0;
 };
 
 // Curves of constant speed (lines, arcs): arc length is linear in the parameter.

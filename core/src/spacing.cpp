@@ -125,39 +125,55 @@ std::vector<double> graded_stations(const DensityProfile& prof) {
     // point of the march lands on M: every segment keeps the same ratio to its target at its
     // own place. The end of the march grows monotonically with lambda; regula falsi
     // (Illinois) on a bracket finds it in a few marches.
+    std::vector<double> x, best;
+    double best_err = HUGE_VAL;
     auto end_at = [&](double lambda) {
+        x.clear();
         double l = 0.0, nx = 0.0;
-        march(prof, lambda, n, nullptr, l, nx);
-        return l - total;  // position of the n-th point, relative to M
+        march(prof, lambda, n, &x, l, nx);
+        const double f = l - total;  // position of the n-th point, relative to M
+        if (std::fabs(f) < best_err) {
+            best_err = std::fabs(f);
+            best.swap(x);
+        }
+        return f;
     };
-    double lo = 0.5, hi = 2.0;
-    double f_lo = end_at(lo), f_hi = end_at(hi);
-    while (f_lo > 0.0) { hi = lo; f_hi = f_lo; lo *= 0.5; f_lo = end_at(lo); }
-    while (f_hi < 0.0) { lo = hi; f_lo = f_hi; hi *= 2.0; f_hi = end_at(hi); }
-    double lambda = 1.0;
-    int side = 0;
-    for (int iter = 0; iter < 100; ++iter) {
-        lambda = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-        const double f = end_at(lambda);
-        if (std::fabs(f) <= 1e-13 * total || hi - lo <= 1e-15 * hi) break;
-        if (f < 0.0) {
-            lo = lambda; f_lo = f;
-            if (side == -1) f_hi *= 0.5;
-            side = -1;
+    // Accurate far beyond what the rounding of a long march allows, and far below the last
+    // segment (about h at M), which absorbs the remainder.
+    const double accept = std::fmax(1e-6 * prof.h.back(),
+                                    8.0 * static_cast<double>(n) * 0x1p-52 * total);
+    // The unscaled march already says where the n-th point falls: for a uniform rho,
+    // M / x_n is the answer; start there and bracket around it.
+    const double guess = total / (n == k ? last : next);
+    const double f_guess = end_at(guess);
+    if (std::fabs(f_guess) > accept) {
+        double lo = guess, hi = guess, f_lo = f_guess, f_hi = f_guess;
+        // x_n grows about in proportion to lambda: a step of twice the relative miss brackets.
+        double step = std::fmin(0.5, 2.0 * std::fabs(f_guess) / total);
+        if (f_guess > 0.0) {
+            do { hi = lo; f_hi = f_lo; lo *= 1.0 - step; f_lo = end_at(lo); step *= 2; } while (f_lo > 0.0);
         } else {
-            hi = lambda; f_hi = f;
-            if (side == 1) f_lo *= 0.5;
-            side = 1;
+            do { lo = hi; f_lo = f_hi; hi *= 1.0 + step; f_hi = end_at(hi); step *= 2; } while (f_hi < 0.0);
+        }
+        int side = 0;
+        for (int iter = 0; iter < 100 && best_err > accept && hi - lo > 1e-15 * hi; ++iter) {
+            const double lambda = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+            const double f = end_at(lambda);
+            if (f < 0.0) {
+                lo = lambda; f_lo = f;
+                if (side == -1) f_hi *= 0.5;  // Illinois: keep the stale end from stalling
+                side = -1;
+            } else {
+                hi = lambda; f_hi = f;
+                if (side == 1) f_lo *= 0.5;
+                side = 1;
+            }
         }
     }
-    std::vector<double> x;
-    x.reserve(n + 1);
-    double l = 0.0, nx = 0.0;
-    march(prof, lambda, n, &x, l, nx);
     // Rounding: points strictly increasing and the end exactly at M.
-    x.back() = total;
-    for (size_t i = x.size() - 1; i-- > 1;) x[i] = std::min(x[i], std::nextafter(x[i + 1], 0.0));
-    return x;
+    best.back() = total;
+    for (size_t i = best.size() - 1; i-- > 1;) best[i] = std::min(best[i], std::nextafter(best[i + 1], 0.0));
+    return best;
 }
 
 }  // namespace meshd::core

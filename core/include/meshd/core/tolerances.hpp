@@ -24,8 +24,9 @@ inline constexpr double kFlattenDeviation = 1e-5;
 /// point generator of section 3.1 marches on.
 inline constexpr double kDensityInterpolation = 1e-3;
 
-/// Relative accuracy of numerical arc length (Gauss-Legendre, adaptive).
-inline constexpr double kArcLength = 1e-12;
+/// Accuracy of the numerical arc length model (Gauss-Legendre integrals, piecewise cubic in
+/// the parameter), relative to the curve's length.
+inline constexpr double kArcLength = 1e-10;
 
 /// Default lower clamp of the density, as a fraction of the domain extent, used when the
 /// request gives no `min`: a density tending to zero cannot ask for endless refinement.

@@ -1,0 +1,114 @@
+// Boundary generation and the interior density (eq. 6.1): size sweeps with complexity fits.
+//
+// - BM_CircleBoundary: one full circle, uniform rho, n points: the floor cost per point of the
+//   point generator (density samples, march, mapping onto the curve).
+// - BM_AirfoilBoundary: NACA 0012 in a far field with the paper's Fig. 10 density divided by
+//   a scale factor, so the point count grows as the factor: graded, with a numerical
+//   arc-length inversion per point; the case of the product.
+// - BM_InverseDistance: eq. 6.1 queries through the treecode against the boundary of the
+//   previous case; compare with BM_InverseDistanceNaive, the O(N) sum.
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "meshd/core/boundary.hpp"
+
+using namespace meshd::core;
+
+namespace {
+
+DomainSpec circle_domain() {
+    DomainSpec s;
+    s.points = {{"P", {1.0, 0.0}}};
+    s.curves.push_back({"c", ArcShape{{0.0, 0.0}, ArcDirection::Ccw}, "P", "P", std::nullopt});
+    s.loops = {{{"c", false}}};
+    return s;
+}
+
+DomainSpec airfoil_domain() {
+    DomainSpec s;
+    s.points = {{"F", {20.5, 0.0}}};
+    NacaSpec naca;
+    naca.code = "0012";
+    s.curves.push_back({"wing", naca, std::nullopt, std::nullopt, std::string("wall")});
+    s.curves.push_back({"farfield", ArcShape{{0.5, 0.0}, ArcDirection::Ccw}, "F", "F", std::string("farfield")});
+    s.loops = {{{"farfield", false}}, {{"wing", false}}};
+    return s;
+}
+
+std::string fig10_scaled(double s) {
+    const std::string k = std::to_string(s);
+    return "(x < 0.5 ? 0.1*sqrt(x^2+y^2)+0.007 : 0.1*sqrt((x-1.008930411365)^2+y^2)+0.006) * " + k;
+}
+
+void BM_CircleBoundary(benchmark::State& state) {
+    const Domain dom = build_domain(circle_domain());
+    DensitySpec spec;
+    spec.size = 2 * std::numbers::pi / static_cast<double>(state.range(0));
+    SizeField rho(spec, dom);
+    size_t points = 0;
+    for (auto _ : state) {
+        const Discretisation d = discretise_boundary(dom, rho);
+        points = d.size();
+        benchmark::DoNotOptimize(d.x.data());
+    }
+    state.SetComplexityN(static_cast<int64_t>(points));
+    state.counters["points"] = static_cast<double>(points);
+    state.counters["points/s"] = benchmark::Counter(static_cast<double>(points) * state.iterations(),
+                                                    benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_CircleBoundary)->RangeMultiplier(10)->Range(1000, 1000000)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
+
+void BM_AirfoilBoundary(benchmark::State& state) {
+    const Domain dom = build_domain(airfoil_domain());
+    DensitySpec spec;
+    const double scale = 1.0 / static_cast<double>(state.range(0));
+    spec.size = fig10_scaled(scale);
+    spec.min = 1e-9;
+    SizeField rho(spec, dom);
+    size_t points = 0;
+    for (auto _ : state) {
+        const Discretisation d = discretise_boundary(dom, rho);
+        points = d.size();
+        benchmark::DoNotOptimize(d.x.data());
+    }
+    state.SetComplexityN(static_cast<int64_t>(points));
+    state.counters["points"] = static_cast<double>(points);
+    state.counters["points/s"] = benchmark::Counter(static_cast<double>(points) * state.iterations(),
+                                                    benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_AirfoilBoundary)->RangeMultiplier(10)->Range(1, 10000)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
+
+template <bool kNaive>
+void BM_InverseDistance(benchmark::State& state) {
+    const Domain dom = build_domain(airfoil_domain());
+    DensitySpec spec;
+    spec.size = fig10_scaled(1.0 / static_cast<double>(state.range(0)));
+    SizeField rho(spec, dom);
+    const Discretisation d = discretise_boundary(dom, rho);
+    std::vector<Vec2> a;
+    std::vector<double> len;
+    for (const auto& s : d.segments) {
+        a.push_back(d.point(s.a));
+        len.push_back(distance(d.point(s.a), d.point(s.b)));
+    }
+    const InverseDistanceField idw(a, len);
+    std::mt19937_64 rng(1);
+    std::uniform_real_distribution<double> u(-1.0, 2.0);
+    std::vector<Vec2> probes(1024);
+    for (auto& p : probes) p = {u(rng), 0.5 * u(rng)};
+    size_t i = 0;
+    for (auto _ : state) {
+        const Vec2 p = probes[i++ & 1023];
+        benchmark::DoNotOptimize(kNaive ? idw.exact(p) : idw(p));
+    }
+    state.SetComplexityN(static_cast<int64_t>(a.size()));
+    state.counters["sources"] = static_cast<double>(a.size());
+}
+BENCHMARK_TEMPLATE(BM_InverseDistance, false)->RangeMultiplier(10)->Range(1, 1000)->Complexity(benchmark::oLogN);
+BENCHMARK_TEMPLATE(BM_InverseDistance, true)->RangeMultiplier(10)->Range(1, 100)->Complexity(benchmark::oN);
+
+}  // namespace

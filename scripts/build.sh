@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Configures and builds meshd. Usage: scripts/build.sh [release|sanitize]
+#   release   (default) optimised build in build/
+#   sanitize  AddressSanitizer + UndefinedBehaviorSanitizer build in build-sanitize/
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+mode="${1:-release}"
+jobs="$(nproc 2>/dev/null || echo 2)"
+case "$mode" in
+  release)
+    dir=build
+    args=(-DCMAKE_BUILD_TYPE=Release -DMESHD_WERROR=ON)
+    ;;
+  sanitize)
+    dir=build-sanitize
+    args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHD_WERROR=ON -DMESHD_SANITIZE=address,undefined
+          -DMESHD_BUILD_BENCH=OFF)
+    ;;
+  *)
+    echo "usage: $0 [release|sanitize]" >&2
+    exit 2
+    ;;
+esac
+
+cmake -S . -B "$dir" -G Ninja "${args[@]}" >/dev/null
+cmake --build "$dir" -j "$jobs"
