@@ -7,8 +7,11 @@
 
 #include "meshd/core/predicates.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
+#include <vector>
 
 namespace meshd::core {
 
@@ -52,6 +55,85 @@ size_t grow(double* e, size_t n, double b) {
 
 int sign_of(double v) { return (v > 0.0) - (v < 0.0); }
 
+// ---------------------------------------------------------------------------------------
+// Expansions as vectors, for the rare exact stage of incircle.
+
+using Expansion = std::vector<double>;
+
+// Sum of two non-overlapping expansions: merge by magnitude, then accumulate with two_sum
+// (Shewchuk's Fast-Expansion-Sum, with zero elimination).
+Expansion add(const Expansion& e, const Expansion& f) {
+    Expansion g;
+    g.reserve(e.size() + f.size());
+    std::merge(e.begin(), e.end(), f.begin(), f.end(), std::back_inserter(g),
+               [](double a, double b) { return std::fabs(a) < std::fabs(b); });
+    Expansion h;
+    if (g.empty()) return h;
+    h.reserve(g.size());
+    double q = g[0];
+    for (size_t i = 1; i < g.size(); ++i) {
+        double s, err;
+        two_sum(q, g[i], s, err);
+        if (err != 0.0) h.push_back(err);
+        q = s;
+    }
+    if (q != 0.0 || h.empty()) h.push_back(q);
+    return h;
+}
+
+Expansion negate(Expansion e) {
+    for (double& v : e) v = -v;
+    return e;
+}
+
+// e * b for a double b (Scale-Expansion with zero elimination).
+Expansion scale(const Expansion& e, double b) {
+    Expansion h;
+    h.reserve(2 * e.size());
+    double q, err;
+    two_product(e[0], b, q, err);
+    if (err != 0.0) h.push_back(err);
+    for (size_t i = 1; i < e.size(); ++i) {
+        double p1, p0, s;
+        two_product(e[i], b, p1, p0);
+        two_sum(q, p0, s, err);
+        if (err != 0.0) h.push_back(err);
+        two_sum(p1, s, q, err);
+        if (err != 0.0) h.push_back(err);
+    }
+    if (q != 0.0 || h.empty()) h.push_back(q);
+    return h;
+}
+
+Expansion mul(const Expansion& e, const Expansion& f) {
+    Expansion acc{0.0};
+    for (double v : f) acc = add(acc, scale(e, v));
+    return acc;
+}
+
+Expansion diff(double a, double b) {
+    double s, err;
+    two_sum(a, -b, s, err);
+    if (err == 0.0) return {s};
+    return {err, s};
+}
+
+int incircle_exact(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+    const Expansion adx = diff(a.x, d.x), ady = diff(a.y, d.y);
+    const Expansion bdx = diff(b.x, d.x), bdy = diff(b.y, d.y);
+    const Expansion cdx = diff(c.x, d.x), cdy = diff(c.y, d.y);
+    const Expansion alift = add(mul(adx, adx), mul(ady, ady));
+    const Expansion blift = add(mul(bdx, bdx), mul(bdy, bdy));
+    const Expansion clift = add(mul(cdx, cdx), mul(cdy, cdy));
+    const Expansion bc = add(mul(bdx, cdy), negate(mul(cdx, bdy)));
+    const Expansion ca = add(mul(cdx, ady), negate(mul(adx, cdy)));
+    const Expansion ab = add(mul(adx, bdy), negate(mul(bdx, ady)));
+    const Expansion det = add(add(mul(alift, bc), mul(blift, ca)), mul(clift, ab));
+    return sign_of(det.back());
+}
+
+constexpr double kIncircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
+
 int orient_exact(Vec2 a, Vec2 b, Vec2 c) {
     // det = ax*by - ax*cy - ay*bx + ay*cx + bx*cy - by*cx, every product exact.
     const double terms[6][2] = {{a.x, b.y}, {-a.x, c.y}, {-a.y, b.x},
@@ -79,6 +161,49 @@ Orientation orient2d(Vec2 a, Vec2 b, Vec2 c) {
     if (std::fabs(det) > kOrientBound * sum) return static_cast<Orientation>(sign_of(det));
     ++counters.orient_exact;
     return static_cast<Orientation>(orient_exact(a, b, c));
+}
+
+int incircle(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+    ++counters.incircle_calls;
+    const double adx = a.x - d.x, ady = a.y - d.y;
+    const double bdx = b.x - d.x, bdy = b.y - d.y;
+    const double cdx = c.x - d.x, cdy = c.y - d.y;
+    const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+    const double alift = adx * adx + ady * ady;
+    const double cdxady = cdx * ady, adxcdy = adx * cdy;
+    const double blift = bdx * bdx + bdy * bdy;
+    const double adxbdy = adx * bdy, bdxady = bdx * ady;
+    const double clift = cdx * cdx + cdy * cdy;
+    const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+    const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
+                             (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
+                             (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
+    if (std::fabs(det) > kIncircleBound * permanent) return sign_of(det);
+    ++counters.incircle_exact;
+    return incircle_exact(a, b, c, d);
+}
+
+int incircle_perturbed(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::uint32_t ra, std::uint32_t rb,
+                       std::uint32_t rc, std::uint32_t rd) {
+    const int s = incircle(a, b, c, d);
+    if (s != 0) return s;
+    // The determinant with rows (x, y, x^2 + y^2, 1) is linear in each lifted height; raising
+    // the height of row i by eps^rank adds eps^rank times its cofactor, (-1)^i times the
+    // orientation of the other three rows in order. The highest-weighted (lowest rank) point
+    // whose cofactor is non-zero decides.
+    const std::array<Vec2, 4> p{a, b, c, d};
+    std::array<std::uint32_t, 4> rank{ra, rb, rc, rd};
+    std::array<int, 4> order{0, 1, 2, 3};
+    std::sort(order.begin(), order.end(), [&](int i, int j) { return rank[static_cast<size_t>(i)] < rank[static_cast<size_t>(j)]; });
+    for (int i : order) {
+        std::array<Vec2, 3> rest;
+        size_t k = 0;
+        for (int j = 0; j < 4; ++j)
+            if (j != i) rest[k++] = p[static_cast<size_t>(j)];
+        const int o = static_cast<int>(orient2d(rest[0], rest[1], rest[2]));
+        if (o != 0) return (i % 2 == 0) ? o : -o;
+    }
+    return 0;
 }
 
 PredicateCounters predicate_counters() { return counters; }

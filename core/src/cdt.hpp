@@ -1,0 +1,66 @@
+#pragma once
+// The triangle soup with adjacency shared by both triangulators, the smoothing stage and
+// mesh checks: rotations, flips, edge lookups, Lawson legalisation.
+
+#include <cstdint>
+#include <vector>
+
+#include "meshd/core/triangulation.hpp"
+
+namespace meshd::core::detail {
+
+inline std::uint32_t next3(std::uint32_t i) { return i == 2 ? 0 : i + 1; }
+inline std::uint32_t prev3(std::uint32_t i) { return i == 0 ? 2 : i - 1; }
+
+class TriangleSoup {
+public:
+    TriangleSoup(const std::vector<Vec2>& points, std::vector<Triangle>& tris, bool track_vertices)
+        : pts_(points), t_(tris), track_(track_vertices) {
+        if (track_) rebuild_vertex_index();
+    }
+
+    const Vec2& p(std::uint32_t v) const { return pts_[v]; }
+    std::vector<Triangle>& tris() { return t_; }
+
+    /// Index of vertex v in triangle t (which must contain it).
+    static std::uint32_t index_of(const Triangle& t, std::uint32_t v);
+    /// Index in u of the edge shared with t.
+    std::uint32_t back_index(TriangleId u, TriangleId t) const;
+
+    bool constrained(TriangleId t, std::uint32_t i) const { return (t_[t].constrained >> i) & 1u; }
+    void set_flag(TriangleId t, std::uint32_t i, bool constrained, bool boundary);
+
+    /// Flips edge i of t (t and its neighbour must form a convex quad; the edge must not be
+    /// constrained). Afterwards t holds (p, b, q) and the neighbour (p, q, c) where p = old
+    /// t.v[i], q the neighbour's opposite vertex, and both have p... see cdt.cpp.
+    void flip(TriangleId t, std::uint32_t i);
+
+    /// True when edge i of t is not locally Delaunay (perturbed, ranks = vertex ids).
+    bool illegal(TriangleId t, std::uint32_t i) const;
+
+    /// Lawson: flips until every edge in the queue (and every edge touched by a flip) is
+    /// locally Delaunay. Edges as (triangle, index). Returns the number of flips.
+    std::uint64_t legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue);
+
+    /// The triangle holding the directed edge a -> b (a at index k, b at k+1), or kNoTriangle.
+    /// Needs the vertex index.
+    std::pair<TriangleId, std::uint32_t> find_edge(std::uint32_t a, std::uint32_t b) const;
+
+    TriangleId vertex_triangle(std::uint32_t v) const { return vtri_[v]; }
+    void set_vertex_triangle(std::uint32_t v, TriangleId t) {
+        if (track_) vtri_[v] = t;
+    }
+    void touch(TriangleId t) {
+        if (track_)
+            for (auto v : t_[t].v) vtri_[v] = t;
+    }
+    void rebuild_vertex_index();
+
+private:
+    const std::vector<Vec2>& pts_;
+    std::vector<Triangle>& t_;
+    bool track_;
+    std::vector<TriangleId> vtri_;
+};
+
+}  // namespace meshd::core::detail

@@ -1,0 +1,182 @@
+// The constrained Delaunay triangulators on point sets with known answers and properties.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "meshd/core/mesh.hpp"
+#include "meshd/core/predicates.hpp"
+#include "meshd/core/triangulation.hpp"
+
+using namespace meshd::core;
+
+namespace {
+
+// A mesh from points and a set of loops given as point index cycles (outer first).
+Mesh mesh_of(const std::vector<Vec2>& pts, const std::vector<std::vector<std::uint32_t>>& loops,
+             const TriangulationResult& r, const std::vector<Constraint>& cons) {
+    Mesh m;
+    for (const Vec2& p : pts) {
+        m.x.push_back(p.x);
+        m.y.push_back(p.y);
+        m.kind.push_back(PointKind::Interior);
+    }
+    m.triangles = r.triangles;
+    for (const Constraint& c : cons) m.edges.push_back({c.a, c.b, 0, !c.loop});
+    m.holes = loops.size() - 1;
+    return m;
+}
+
+std::vector<Constraint> loop_constraints(const std::vector<std::vector<std::uint32_t>>& loops) {
+    std::vector<Constraint> c;
+    for (const auto& l : loops)
+        for (size_t i = 0; i < l.size(); ++i) c.push_back({l[i], l[(i + 1) % l.size()], true});
+    return c;
+}
+
+void expect_valid(const Mesh& m) {
+    const auto v = check_mesh(m);
+    for (const auto& s : v) ADD_FAILURE() << s;
+}
+
+// Sorted triangles (each rotated to start at its smallest vertex) for comparisons.
+std::vector<std::array<std::uint32_t, 3>> canonical(const std::vector<Triangle>& tris) {
+    std::vector<std::array<std::uint32_t, 3>> out;
+    for (const Triangle& t : tris) {
+        std::array<std::uint32_t, 3> v = t.v;
+        while (v[0] > v[1] || v[0] > v[2]) std::rotate(v.begin(), v.begin() + 1, v.end());
+        out.push_back(v);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+}  // namespace
+
+TEST(Predicates, IncircleBasicAndPerturbed) {
+    const Vec2 a{0, 0}, b{1, 0}, c{0, 1};
+    EXPECT_GT(incircle(a, b, c, {0.5, 0.5}), 0);
+    EXPECT_LT(incircle(a, b, c, {2, 2}), 0);
+    EXPECT_EQ(incircle(a, b, c, {1, 1}), 0);  // the square's fourth corner is on the circle
+    // Perturbed: exactly one diagonal of a cocircular quad is legal, whichever triangle asks.
+    const Vec2 d{1, 1};
+    // Quad a, b, d, c counter-clockwise. Diagonal b-c (triangles a,b,c and b,d,c) is legal
+    // iff d is outside circle(a,b,c) and a outside circle(b,d,c).
+    const int s1 = incircle_perturbed(a, b, c, d, 0, 1, 2, 3);
+    const int s2 = incircle_perturbed(b, d, c, a, 1, 3, 2, 0);
+    EXPECT_NE(s1, 0);
+    EXPECT_EQ(s1, s2);  // both triangles of the same diagonal agree
+    // The other diagonal a-d (triangles a,b,d and a,d,c) gets the opposite verdict.
+    const int s3 = incircle_perturbed(a, b, d, c, 0, 1, 3, 2);
+    const int s4 = incircle_perturbed(a, d, c, b, 0, 3, 2, 1);
+    EXPECT_EQ(s3, s4);
+    EXPECT_EQ(s3, -s1);
+    // Cyclic rotation of the triangle does not change the answer.
+    EXPECT_EQ(incircle_perturbed(b, c, a, d, 1, 2, 0, 3), s1);
+}
+
+TEST(Predicates, IncircleNearCocircularMatchesExactRationalSign) {
+    // Points on the unit circle's integer multiples (3-4-5 triangles) shifted by one ulp.
+    const Vec2 a{5, 0}, b{3, 4}, c{-4, 3};
+    const Vec2 on{0, -5};
+    EXPECT_EQ(incircle(a, b, c, on), 0);
+    EXPECT_GT(incircle(a, b, c, {0, std::nextafter(-5.0, 0.0)}), 0);
+    EXPECT_LT(incircle(a, b, c, {0, std::nextafter(-5.0, -10.0)}), 0);
+    // Large offsets: the same configuration translated far away.
+    const Vec2 o{1e9, -3e8};
+    EXPECT_EQ(incircle(a + o, b + o, c + o, on + o), 0);
+}
+
+TEST(Delaunay, RandomPointsInASquare) {
+    std::mt19937_64 rng(42);
+    std::uniform_real_distribution<double> u(0.01, 0.99);
+    std::vector<Vec2> pts{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (int i = 0; i < 2000; ++i) pts.push_back({u(rng), u(rng)});
+    const std::vector<std::vector<std::uint32_t>> loops{{0, 1, 2, 3}};
+    const auto cons = loop_constraints(loops);
+    const auto r = triangulate_delaunay(pts, cons);
+    const Mesh m = mesh_of(pts, loops, r, cons);
+    expect_valid(m);
+    EXPECT_EQ(m.triangles.size(), 2 * pts.size() - 2 - 4);  // 2n - 2 - h for h hull points
+}
+
+TEST(Delaunay, CocircularLatticeIsDeterministicAndValid) {
+    std::vector<Vec2> pts;
+    const int n = 30;
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) pts.push_back({static_cast<double>(i), static_cast<double>(j)});
+    auto id = [&](int i, int j) { return static_cast<std::uint32_t>(i * (n + 1) + j); };
+    std::vector<std::uint32_t> outer;
+    for (int i = 0; i < n; ++i) outer.push_back(id(i, 0));
+    for (int j = 0; j < n; ++j) outer.push_back(id(n, j));
+    for (int i = n; i > 0; --i) outer.push_back(id(i, n));
+    for (int j = n; j > 0; --j) outer.push_back(id(0, j));
+    const std::vector<std::vector<std::uint32_t>> loops{outer};
+    const auto cons = loop_constraints(loops);
+    const auto r1 = triangulate_delaunay(pts, cons);
+    expect_valid(mesh_of(pts, loops, r1, cons));
+    EXPECT_EQ(r1.triangles.size(), static_cast<size_t>(2 * n * n));
+    // Run after run, the same triangles.
+    const auto r2 = triangulate_delaunay(pts, cons);
+    EXPECT_EQ(canonical(r1.triangles), canonical(r2.triangles));
+}
+
+TEST(Delaunay, AnnulusWithHoleRemoved) {
+    std::vector<Vec2> pts;
+    const int n_out = 64, n_in = 32;
+    for (int i = 0; i < n_out; ++i) {
+        const double a = 2 * std::numbers::pi * i / n_out;
+        pts.push_back({std::cos(a), std::sin(a)});
+    }
+    for (int i = 0; i < n_in; ++i) {
+        const double a = -2 * std::numbers::pi * i / n_in;  // clockwise: domain on the left
+        pts.push_back({0.4 * std::cos(a), 0.4 * std::sin(a)});
+    }
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    while (pts.size() < 600) {
+        const Vec2 p{u(rng), u(rng)};
+        const double r = norm(p);
+        if (r > 0.45 && r < 0.95) pts.push_back(p);
+    }
+    std::vector<std::uint32_t> outer, inner;
+    for (int i = 0; i < n_out; ++i) outer.push_back(static_cast<std::uint32_t>(i));
+    for (int i = 0; i < n_in; ++i) inner.push_back(static_cast<std::uint32_t>(n_out + i));
+    const std::vector<std::vector<std::uint32_t>> loops{outer, inner};
+    const auto cons = loop_constraints(loops);
+    const auto r = triangulate_delaunay(pts, cons);
+    expect_valid(mesh_of(pts, loops, r, cons));
+}
+
+TEST(Delaunay, ConstraintsAreRecoveredAcrossManyTriangles) {
+    // A long embedded segment across a cloud of 3000 points.
+    std::mt19937_64 rng(9);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<Vec2> pts{{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.05, 0.5003}, {0.95, 0.4997}, {0.3, 0.2}, {0.7, 0.8}};
+    for (int i = 0; i < 3000; ++i) {
+        const Vec2 p{u(rng), u(rng)};
+        if (p.x > 0.001 && p.x < 0.999 && p.y > 0.001 && p.y < 0.999) pts.push_back(p);
+    }
+    const std::vector<std::vector<std::uint32_t>> loops{{0, 1, 2, 3}};
+    auto cons1 = loop_constraints(loops);
+    cons1.push_back({4, 5, false});
+    cons1.push_back({6, 7, false});  // crosses the first: keep only one of them
+    cons1.pop_back();
+    const auto r1 = triangulate_delaunay(pts, cons1);
+    expect_valid(mesh_of(pts, loops, r1, cons1));
+}
+
+TEST(Delaunay, ConstraintThroughACollinearPointIsSplit) {
+    std::vector<Vec2> pts{{0, 0}, {2, 0}, {2, 2}, {0, 2}, {0.5, 1}, {1.5, 1}, {1, 1}, {1, 0.5}, {1, 1.5}};
+    const std::vector<std::vector<std::uint32_t>> loops{{0, 1, 2, 3}};
+    auto cons = loop_constraints(loops);
+    cons.push_back({4, 5, false});  // passes through point 6 = (1, 1)
+    const auto r = triangulate_delaunay(pts, cons);
+    Mesh m = mesh_of(pts, loops, r, cons);
+    m.edges.pop_back();
+    m.edges.push_back({4, 6, 0, true});
+    m.edges.push_back({6, 5, 0, true});
+    expect_valid(m);
+}
