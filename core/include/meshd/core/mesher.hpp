@@ -1,0 +1,66 @@
+#pragma once
+/// The front door of the core: a domain and a density in, a mesh and its figures out.
+///
+///   boundary      graded points on the curves (section 3)
+///   interior      points by the advancing front (section 4)
+///   triangulation constrained Delaunay triangulation of all points (section 5)
+///   smoothing     Laplacian smoothing that never inverts nor worsens a star, then flips
+///   quality       the figures of quality.hpp
+///
+/// The server, the CLI and the tests all call generate_mesh().
+
+#include <cstdint>
+
+#include "meshd/core/boundary.hpp"
+#include "meshd/core/density.hpp"
+#include "meshd/core/interior.hpp"
+#include "meshd/core/mesh.hpp"
+#include "meshd/core/observer.hpp"
+#include "meshd/core/quality.hpp"
+
+namespace meshd::core {
+
+enum class Triangulator {
+    Delaunay,        ///< incremental insertion, constraint recovery, flood fill (default)
+    AdvancingFront,  ///< the paper's Delaunay advancing front
+};
+
+struct MeshOptions {
+    int smoothing_iterations = 5;
+    Triangulator triangulator = Triangulator::Delaunay;
+    /// Refuse (TooManyPoints) beyond this many points. 0: no limit.
+    size_t max_points = 0;
+    SplineSpacing spline_spacing = SplineSpacing::ArcLength;
+    InteriorOptions interior;
+};
+
+struct StageTimings {
+    double boundary_ms = 0, interior_ms = 0, triangulation_ms = 0, smoothing_ms = 0, total_ms = 0;
+};
+
+struct MeshStats {
+    InteriorStats interior;
+    TriangulationStats triangulation;
+    std::uint64_t smoothing_moves = 0, smoothing_flips = 0;
+    std::uint64_t orient_calls = 0, orient_exact = 0, incircle_calls = 0, incircle_exact = 0;
+};
+
+struct MeshResult {
+    Mesh mesh;
+    QualityMetrics quality;
+    StageTimings timings;
+    MeshStats stats;
+};
+
+/// Meshes the domain. rho is completed here (eq. 6.1 sources) and must not be shared with
+/// other threads. Throws GeometryError, Cancelled or InternalError.
+MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions& options = {},
+                         Observer* observer = nullptr);
+
+/// Laplacian smoothing of the interior points (section 5 of ALGORITHM.md): each sweep moves
+/// every interior point to the mean of its neighbours unless that inverts a triangle of its
+/// star or lowers the star's worst radius ratio, then restores the Delaunay property by flips
+/// of unconstrained edges. Returns the number of moves made.
+std::uint64_t smooth(Mesh& mesh, int iterations, std::uint64_t* flips = nullptr, Observer* observer = nullptr);
+
+}  // namespace meshd::core

@@ -1,0 +1,100 @@
+// The pipeline of mesher.hpp.
+
+#include "meshd/core/mesher.hpp"
+
+#include <chrono>
+
+#include "meshd/core/errors.hpp"
+#include "meshd/core/predicates.hpp"
+
+namespace meshd::core {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions& options, Observer* observer) {
+    MeshResult r;
+    reset_predicate_counters();
+    const auto t_start = Clock::now();
+
+    // Boundary.
+    auto t0 = Clock::now();
+    BoundaryOptions bopt;
+    bopt.spline_spacing = options.spline_spacing;
+    bopt.max_points = options.max_points;
+    const Discretisation d = discretise_boundary(domain, rho, bopt, observer);
+    if (rho.interpolates()) set_interpolation_sources(rho, d);
+    r.timings.boundary_ms = ms_since(t0);
+
+    // Interior.
+    t0 = Clock::now();
+    InteriorOptions iopt = options.interior;
+    iopt.max_points = options.max_points;
+    const std::vector<Vec2> inner = generate_interior_points(domain, d, rho, iopt, observer, &r.stats.interior);
+    r.timings.interior_ms = ms_since(t0);
+
+    // Triangulation.
+    t0 = Clock::now();
+    std::vector<Vec2> pts;
+    pts.reserve(d.size() + inner.size());
+    for (VertexId v = 0; v < d.size(); ++v) pts.push_back(d.point(v));
+    pts.insert(pts.end(), inner.begin(), inner.end());
+    std::vector<Constraint> cons;
+    cons.reserve(d.segments.size());
+    for (size_t i = 0; i < d.segments.size(); ++i)
+        cons.push_back({d.segments[i].a, d.segments[i].b, i < d.loop_segment_count});
+    TriangulationResult tr = options.triangulator == Triangulator::Delaunay
+                                 ? triangulate_delaunay(pts, cons, observer)
+                                 : triangulate_advancing_front(pts, cons, observer);
+    for (size_t i = 0; i < tr.alias.size(); ++i)
+        MESHD_INTERNAL_CHECK(tr.alias[i] == i, "two mesh points coincide");
+    r.stats.triangulation = tr.stats;
+
+    Mesh& m = r.mesh;
+    m.x.reserve(pts.size());
+    m.y.reserve(pts.size());
+    for (const Vec2& p : pts) {
+        m.x.push_back(p.x);
+        m.y.push_back(p.y);
+    }
+    m.kind.assign(pts.size(), PointKind::Interior);
+    std::vector<bool> embedded_curve(domain.curves().size(), false);
+    for (CurveId c : domain.embedded()) embedded_curve[c] = true;
+    for (VertexId v = 0; v < d.size(); ++v) {
+        if (d.curve[v] == kNoCurve) m.kind[v] = PointKind::Corner;
+        else m.kind[v] = embedded_curve[d.curve[v]] ? PointKind::Embedded : PointKind::Boundary;
+    }
+    m.triangles = std::move(tr.triangles);
+    for (size_t i = 0; i < d.segments.size(); ++i) {
+        const auto& s = d.segments[i];
+        m.edges.push_back({s.a, s.b, domain.curves()[s.curve].tag, i >= d.loop_segment_count});
+    }
+    m.tags = domain.tags();
+    m.holes = domain.hole_count();
+    r.timings.triangulation_ms = ms_since(t0);
+
+    // Smoothing.
+    t0 = Clock::now();
+    if (options.smoothing_iterations > 0)
+        r.stats.smoothing_moves = smooth(m, options.smoothing_iterations, &r.stats.smoothing_flips, observer);
+    r.timings.smoothing_ms = ms_since(t0);
+
+    if (observer) observer->on_progress(Stage::Quality, 0.0);
+    r.quality = measure_quality(m, rho);
+    r.timings.total_ms = ms_since(t_start);
+    const PredicateCounters pc = predicate_counters();
+    r.stats.orient_calls = pc.orient_calls;
+    r.stats.orient_exact = pc.orient_exact;
+    r.stats.incircle_calls = pc.incircle_calls;
+    r.stats.incircle_exact = pc.incircle_exact;
+    return r;
+}
+
+}  // namespace meshd::core
