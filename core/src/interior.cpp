@@ -199,17 +199,24 @@ private:
         return is_finite(c);
     }
 
+    // (4.22) against the points of classes k-3 .. k+1 around the class k of C: the grid of
+    // class k holds classes k-1 .. k+1 and that of class k-2 holds k-3 .. k-1, so points up
+    // to 16 times coarser than C are seen (their reach is largest) and down to 4 times finer.
     bool near_other_point(Vec2 c, double rc, std::uint32_t a, std::uint32_t b) const {
         const int k = classes_.class_of(rc);
-        const double reach = classes_.cell(k);  // covers (rc + rho_P) / 2 for every P in this grid
-        for (auto x = classes_.ix(c.x - reach, k); x <= classes_.ix(c.x + reach, k); ++x)
-            for (auto y = classes_.iy(c.y - reach, k); y <= classes_.iy(c.y + reach, k); ++y)
-                for (auto e = points_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = points_.next(e)) {
-                    const std::uint32_t p = points_.item(e);
-                    if (p == a || p == b) continue;
-                    const double lim = opt_.proximity * 0.5 * (rc + prho_[p]);
-                    if (norm2(pts_[p] - c) < lim * lim) return true;
-                }
+        for (int kk : {k, k - 2}) {
+            if (kk < 1) continue;
+            // Largest rho in grid kk: 2 c_(kk-1) = 2 cell(kk); reach (rc + that) / 2.
+            const double reach = opt_.proximity * 0.5 * (rc + 2.0 * classes_.cell(kk));
+            for (auto x = classes_.ix(c.x - reach, kk); x <= classes_.ix(c.x + reach, kk); ++x)
+                for (auto y = classes_.iy(c.y - reach, kk); y <= classes_.iy(c.y + reach, kk); ++y)
+                    for (auto e = points_.head(SizeClasses::key(kk, x, y)); e != CellMap::kNone; e = points_.next(e)) {
+                        const std::uint32_t p = points_.item(e);
+                        if (p == a || p == b) continue;
+                        const double lim = opt_.proximity * 0.5 * (rc + prho_[p]);
+                        if (norm2(pts_[p] - c) < lim * lim) return true;
+                    }
+        }
         return false;
     }
 
