@@ -256,30 +256,22 @@ private:
             front_[s].alive = false;
             return;
         }
-        // Paths from A and B to C must stay in the domain (this also decides C is inside).
-        const TriangleId ta = start_of(seg.a, c);
-        const TriangleId home = ta == kNoTriangle ? kNoTriangle : walker_.walk(ta, a, c);
-        const TriangleId tb = home == kNoTriangle ? kNoTriangle : start_of(seg.b, c);
-        if (home == kNoTriangle || tb == kNoTriangle || walker_.walk(tb, b, c) == kNoTriangle) {
-            ++stats_.rejected_outside;
-            front_[s].alive = false;
-            return;
-        }
         double rc = rho_.interior(c);
         if (opt_.newton) {
             // Fixed point of (4.4): the radii become the mean sizes of the new edges.
-            for (int it = 0; it < 3; ++it) {
+            for (int it = 0; it < 2; ++it) {
                 Vec2 c2;
                 if (!candidate(a, b, 0.5 * (ra + rc), 0.5 * (rb + rc), seg.boundary, c2)) break;
                 if (orient2d(a, b, c2) != Orientation::Left) break;
-                const TriangleId h2 = walker_.walk(ta, a, c2);
-                if (h2 == kNoTriangle || walker_.walk(tb, b, c2) == kNoTriangle) break;
                 c = c2;
                 rc = rho_.interior(c);
             }
         }
-        const TriangleId home_c = walker_.walk(ta, a, c);
-        if (home_c == kNoTriangle) {
+        // Paths from A and B to C must stay in the domain (this also decides C is inside).
+        const TriangleId ta = start_of(seg.a, c);
+        const TriangleId home_c = ta == kNoTriangle ? kNoTriangle : walker_.walk(ta, a, c);
+        const TriangleId tb = home_c == kNoTriangle ? kNoTriangle : start_of(seg.b, c);
+        if (home_c == kNoTriangle || tb == kNoTriangle || walker_.walk(tb, b, c) == kNoTriangle) {
             ++stats_.rejected_outside;
             front_[s].alive = false;
             return;

@@ -27,8 +27,12 @@ namespace meshd::core {
 struct InteriorOptions {
     /// Correct C so that |AC| = (rho(A) + rho(C)) / 2 and |BC| = (rho(B) + rho(C)) / 2 (4.4).
     bool newton = true;
-    /// Factor on the distance of (4.22); 1 is the paper's criterion.
-    double proximity = 1.0;
+    /// Factor on the distance of (4.22); 1 is the paper's criterion. With 1 the points end
+    /// up about 16% farther apart than rho asks (each accepted point keeps a disk of radius
+    /// rho free around it, and the front leaves gaps of nearly that size); 0.8 brings the
+    /// edges to within a few percent of rho and raises the mean radius ratio from 0.954 to
+    /// 0.972 on the NACA 0012 benchmark case (measured: README).
+    double proximity = 0.8;
     /// Refuse (TooManyPoints) beyond this many points in all. 0: no limit.
     size_t max_points = 0;
 };
