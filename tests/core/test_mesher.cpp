@@ -29,21 +29,21 @@ DensitySpec size(std::string expr) {
     return d;
 }
 
-Case square() { return {"square", unit_square(), size("0.03"), 0.85}; }
+Case square() { return {"square", unit_square(), size("0.03"), 0.95}; }
 
 Case annulus() {
     DomainSpec s;
     s.points = {{"P", {1, 0}}, {"Q", {0.3, 0}}};
     s.curves = {arc("outer", "P", "P", {0, 0}), arc("inner", "Q", "Q", {0, 0})};
     s.loops = {loop({"outer"}), loop({"inner"})};
-    return {"annulus", s, size("0.01 + 0.05 * sqrt(x^2 + y^2)"), 0.85};
+    return {"annulus", s, size("0.01 + 0.05 * sqrt(x^2 + y^2)"), 0.95};
 }
 
 Case naca(const std::string& code) {
     DensitySpec d;
     d.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
                 {"wing", std::string("0.003 + 0.05*sqrt((x+0.01)^2+y^2)")}};
-    return {"naca" + code, naca_in_circle(code, 10.0), d, 0.8};
+    return {"naca" + code, naca_in_circle(code, 10.0), d, 0.95};
 }
 
 Case three_element() {
@@ -57,7 +57,7 @@ Case three_element() {
     s.curves.push_back({"flap", flap, std::nullopt, std::nullopt, std::string("wall")});
     s.curves.push_back(arc("farfield", "F", "F", {0.5, 0.0}));
     s.loops = {loop({"farfield"}), loop({"main"}), loop({"slat"}), loop({"flap"})};
-    return {"three-element", s, size("0.004 + 0.08*sqrt((x-0.5)^2+y^2)"), 0.8};
+    return {"three-element", s, size("0.004 + 0.08*sqrt((x-0.5)^2+y^2)"), 0.95};
 }
 
 Case plate_with_holes() {
@@ -79,7 +79,7 @@ Case plate_with_holes() {
         s.curves.push_back(arc(n, n, n, holes[i].first, ArcDirection::Ccw, "hole"));
         s.loops.push_back(loop({n.c_str()}));
     }
-    return {"plate-with-holes", s, size("0.1"), 0.85};
+    return {"plate-with-holes", s, size("0.1"), 0.95};
 }
 
 Case embedded_touching() {
@@ -93,7 +93,7 @@ Case embedded_touching() {
                 line("cut", "C", "X", "cut")};
     s.loops = {loop({"b1", "b2", "right", "top", "left"})};
     s.embedded = {"wake", "cut"};
-    return {"embedded", s, size("0.02 + 0.05*sqrt((x-0.5)^2+(y-0.3)^2)"), 0.78};
+    return {"embedded", s, size("0.02 + 0.05*sqrt((x-0.5)^2+(y-0.3)^2)"), 0.95};
 }
 
 std::vector<Case> cases() {
@@ -152,7 +152,7 @@ TEST_P(MesherCase, ValidMeshBothTriangulatorsAgreeSmoothingKeepsItValid) {
         }
     // Spacing against rho, and quality, as figures with a floor.
     EXPECT_GE(s.quality.size_ratio_within_sqrt2, c.min_within_sqrt2);
-    EXPECT_GT(s.quality.quality_mean, 0.9);
+    EXPECT_GT(s.quality.quality_mean, 0.95);
     EXPECT_GE(s.quality.quality_mean, a.quality.quality_mean - 1e-12);
     EXPECT_EQ(s.quality.triangles, s.mesh.triangles.size());
     EXPECT_EQ(s.quality.points, s.quality.boundary_points + s.quality.interior_points);
@@ -183,7 +183,7 @@ TEST(Mesher, PaperInterpolatedDensityInside) {
     ASSERT_TRUE(rho.interpolates());
     const MeshResult r = generate_mesh(dom, rho);
     expect_valid(r.mesh, "fig9");
-    EXPECT_GT(r.quality.size_ratio_within_sqrt2, 0.8);
+    EXPECT_GT(r.quality.size_ratio_within_sqrt2, 0.95);
 }
 
 TEST(Mesher, CancellationStopsPromptly) {
