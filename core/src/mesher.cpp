@@ -88,6 +88,8 @@ MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions
 
     if (observer) observer->on_progress(Stage::Quality, 0.0);
     r.quality = measure_quality(m, rho);
+    m.target_size.resize(m.point_count());
+    for (std::uint32_t v = 0; v < m.point_count(); ++v) m.target_size[v] = rho.interior(m.point(v));
     r.timings.total_ms = ms_since(t_start);
     const PredicateCounters pc = predicate_counters();
     r.stats.orient_calls = pc.orient_calls;

@@ -33,6 +33,8 @@ struct Mesh {
     std::vector<MeshEdge> edges;
     std::vector<std::string> tags;
     size_t holes = 0;
+    /// rho at each point (the interior density), for writers that carry the target size.
+    std::vector<double> target_size;
 
     size_t point_count() const { return x.size(); }
     Vec2 point(std::uint32_t v) const { return {x[v], y[v]}; }

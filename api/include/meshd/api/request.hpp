@@ -1,0 +1,30 @@
+#pragma once
+/// The mesh request of API.md: JSON in, core types out. Every field is checked for type and
+/// range; unknown fields are refused (a typo must never change a mesh silently); errors name
+/// the field by its JSON pointer.
+
+#include <optional>
+#include <string_view>
+
+#include "meshd/core/density.hpp"
+#include "meshd/core/domain.hpp"
+#include "meshd/core/mesher.hpp"
+
+namespace meshd::api {
+
+struct MeshRequest {
+    core::DomainSpec geometry;
+    core::DensitySpec density;
+    core::MeshOptions options;
+    std::optional<size_t> max_points;  ///< options.max_points as asked (0: not given)
+    std::optional<double> timeout_s;
+    double min_angle_deg = 0.0;
+};
+
+/// Limits of the parser itself.
+inline constexpr int kMaxJsonDepth = 64;
+
+/// Parses and checks the request's shape. Throws RequestError (400).
+MeshRequest parse_request(std::string_view body);
+
+}  // namespace meshd::api

@@ -1,0 +1,35 @@
+#pragma once
+/// Mesh writers: the JSON response of API.md, legacy VTK (binary, big-endian), SU2, Gmsh
+/// MSH 4.1 and SVG. All write straight to a stream as they go: no second copy of the mesh
+/// is built as text.
+
+#include <optional>
+#include <ostream>
+#include <string>
+#include <string_view>
+
+#include "meshd/core/mesher.hpp"
+
+namespace meshd::api {
+
+enum class Format { Json, Vtk, Su2, Msh, Svg };
+
+std::optional<Format> parse_format(std::string_view name);
+const char* format_name(Format f);
+const char* content_type(Format f);
+
+/// The metrics object of the JSON response (API.md), as JSON text.
+std::string metrics_json(const core::MeshResult& r);
+
+void write_mesh(Format f, const core::MeshResult& r, std::ostream& os);
+
+void write_json(const core::MeshResult& r, std::ostream& os);
+/// Triangles (VTK_TRIANGLE) then loop and embedded edges (VTK_LINE); cell data "tag" (the
+/// tag id of each line, -1 for triangles) and "quality" (radius ratio, 0 for lines); point
+/// data "target_size". Tag names are in the header line.
+void write_vtk(const core::MeshResult& r, std::ostream& os);
+void write_su2(const core::MeshResult& r, std::ostream& os);
+void write_msh(const core::MeshResult& r, std::ostream& os);
+void write_svg(const core::MeshResult& r, std::ostream& os);
+
+}  // namespace meshd::api

@@ -1,0 +1,145 @@
+// meshd-cli: meshes a request file offline, with the same core and api as the server.
+//
+//   meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|svg] [--quiet]
+//
+// The format comes from --format, else from the extension of OUT, else json. Without -o the
+// mesh goes to standard output. Metrics and, on a terminal, a progress bar go to stderr.
+// Exit status: 0 done, 1 usage, 2 the request is malformed, 3 it describes no valid domain or
+// density (the problem is printed as JSON), 4 internal error, 5 cancelled by the timeout.
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+#include "meshd/api/problem.hpp"
+#include "meshd/api/request.hpp"
+#include "meshd/api/writers.hpp"
+#include "meshd/core/errors.hpp"
+
+namespace {
+
+using namespace meshd;
+
+void usage() {
+    std::fprintf(stderr,
+                 "usage: meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|svg] [--quiet]\n"
+                 "Meshes the request (see API.md) and writes the mesh; '-' reads standard input.\n");
+}
+
+class Progress : public core::Observer {
+public:
+    Progress(bool tty, std::optional<double> timeout_s) : tty_(tty) {
+        if (timeout_s) deadline_ = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(*timeout_s));
+    }
+    void on_progress(core::Stage stage, double fraction) override {
+        if (!tty_) return;
+        const auto now = std::chrono::steady_clock::now();
+        if (stage == last_stage_ && now - last_ < std::chrono::milliseconds(100)) return;
+        last_ = now;
+        last_stage_ = stage;
+        const int width = 30, done = static_cast<int>(fraction * width);
+        std::fprintf(stderr, "\r%-13s [%s%s] %3d%%", core::to_string(stage), std::string(static_cast<size_t>(done), '#').c_str(),
+                     std::string(static_cast<size_t>(width - done), ' ').c_str(), static_cast<int>(fraction * 100));
+        std::fflush(stderr);
+    }
+    bool should_stop() override { return deadline_ && std::chrono::steady_clock::now() > *deadline_; }
+    void finish() {
+        if (tty_) std::fprintf(stderr, "\r%60s\r", "");
+    }
+
+private:
+    bool tty_;
+    std::optional<std::chrono::steady_clock::time_point> deadline_;
+    std::chrono::steady_clock::time_point last_{};
+    core::Stage last_stage_ = core::Stage::Quality;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string input, output, format_name;
+    bool quiet = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if ((a == "-o" || a == "--output") && i + 1 < argc) output = argv[++i];
+        else if (a == "--format" && i + 1 < argc) format_name = argv[++i];
+        else if (a == "--quiet" || a == "-q") quiet = true;
+        else if (a == "-h" || a == "--help") { usage(); return 0; }
+        else if (input.empty()) input = a;
+        else { usage(); return 1; }
+    }
+    if (input.empty()) { usage(); return 1; }
+    if (format_name.empty() && !output.empty()) {
+        const auto dot = output.rfind('.');
+        if (dot != std::string::npos) format_name = output.substr(dot + 1);
+    }
+    if (format_name.empty()) format_name = "json";
+    const auto format = api::parse_format(format_name);
+    if (!format) {
+        std::fprintf(stderr, "meshd-cli: unknown format \"%s\" (json, vtk, su2, msh, svg)\n", format_name.c_str());
+        return 1;
+    }
+    std::string body;
+    {
+        std::ostringstream ss;
+        if (input == "-") {
+            ss << std::cin.rdbuf();
+        } else {
+            std::ifstream f(input, std::ios::binary);
+            if (!f) { std::fprintf(stderr, "meshd-cli: cannot read %s\n", input.c_str()); return 1; }
+            ss << f.rdbuf();
+        }
+        body = ss.str();
+    }
+    try {
+        const api::MeshRequest req = api::parse_request(body);
+        if (req.min_angle_deg > 0.0)
+            throw api::RequestError(api::Problem{422, "/v1/problems/not-implemented", "Not implemented",
+                                                 "min_angle_deg > 0 (quality refinement) is not implemented yet",
+                                                 "/options/min_angle_deg"});
+        const core::Domain domain = core::build_domain(req.geometry);
+        core::SizeField rho(req.density, domain);
+        Progress progress(!quiet && isatty(2), req.timeout_s);
+        const core::MeshResult r = core::generate_mesh(domain, rho, req.options, &progress);
+        progress.finish();
+        if (output.empty()) {
+            api::write_mesh(*format, r, std::cout);
+            std::cout.flush();
+        } else {
+            std::ofstream f(output, std::ios::binary);
+            if (!f) { std::fprintf(stderr, "meshd-cli: cannot write %s\n", output.c_str()); return 1; }
+            api::write_mesh(*format, r, f);
+            if (!f) { std::fprintf(stderr, "meshd-cli: writing %s failed\n", output.c_str()); return 1; }
+        }
+        if (!quiet) {
+            const auto& q = r.quality;
+            std::fprintf(stderr,
+                         "%zu points (%zu boundary), %zu triangles; angles %.1f..%.1f deg; radius ratio min %.3f "
+                         "mean %.4f; edges within sqrt2 of rho %.4f; %.1f ms (boundary %.1f, interior %.1f, "
+                         "triangulation %.1f, smoothing %.1f)%s%s\n",
+                         q.points, q.boundary_points, q.triangles, q.angle_min, q.angle_max, q.quality_min,
+                         q.quality_mean, q.size_ratio_within_sqrt2, r.timings.total_ms, r.timings.boundary_ms,
+                         r.timings.interior_ms, r.timings.triangulation_ms, r.timings.smoothing_ms,
+                         output.empty() ? "" : " -> ", output.c_str());
+        }
+        return 0;
+    } catch (const api::RequestError& e) {
+        std::fprintf(stderr, "%s\n", e.problem().to_json().c_str());
+        return e.problem().status == 400 ? 2 : 3;
+    } catch (const core::GeometryError& e) {
+        std::fprintf(stderr, "%s\n", api::problem_from(e).to_json().c_str());
+        return 3;
+    } catch (const core::Cancelled&) {
+        std::fprintf(stderr, "meshd-cli: stopped by the timeout\n");
+        return 5;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "meshd-cli: internal error: %s\n", e.what());
+        return 4;
+    }
+}
