@@ -99,14 +99,8 @@ int main(int argc, char** argv) {
     }
     try {
         const api::MeshRequest req = api::parse_request(body);
-        if (req.min_angle_deg > 0.0)
-            throw api::RequestError(api::Problem{422, "/v1/problems/not-implemented", "Not implemented",
-                                                 "min_angle_deg > 0 (quality refinement) is not implemented yet",
-                                                 "/options/min_angle_deg"});
-        const core::Domain domain = core::build_domain(req.geometry);
-        core::SizeField rho(req.density, domain);
         Progress progress(!quiet && isatty(2), req.timeout_s);
-        const core::MeshResult r = core::generate_mesh(domain, rho, req.options, &progress);
+        const core::MeshResult r = api::run_request(req, &progress);
         progress.finish();
         if (output.empty()) {
             api::write_mesh(*format, r, std::cout);

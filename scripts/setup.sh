@@ -7,6 +7,8 @@ packages=(
   build-essential cmake ninja-build pkgconf
   libmuparser-dev nlohmann-json3-dev libspdlog-dev libcpp-httplib-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # the readers the tests read our files back with
+  python3 python3-numpy python3-meshio python3-vtk9 gmsh python3-gmsh
 )
 
 missing=()

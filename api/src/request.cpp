@@ -310,4 +310,14 @@ MeshRequest parse_request(std::string_view body) {
     return r;
 }
 
+core::MeshResult run_request(const MeshRequest& request, core::Observer* observer) {
+    if (request.min_angle_deg > 0.0)
+        throw RequestError(Problem{422, "/v1/problems/not-implemented", "Not implemented",
+                                   "min_angle_deg > 0 (quality refinement) is not implemented yet",
+                                   "/options/min_angle_deg"});
+    const core::Domain domain = core::build_domain(request.geometry);
+    core::SizeField rho(request.density, domain);
+    return core::generate_mesh(domain, rho, request.options, observer);
+}
+
 }  // namespace meshd::api

@@ -60,7 +60,7 @@ std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const Segme
     next_entry.reserve(2 * n);
     entry_seg.reserve(2 * n);
     size_t table_size = 16;
-    while (table_size < 4 * n) table_size <<= 1;
+    while (table_size < 8 * n) table_size <<= 1;  // at most 4 cells a segment: load <= 1/2
     const std::uint64_t mask = table_size - 1;
     constexpr std::uint32_t kEmpty = UINT32_MAX;
     std::vector<std::uint64_t> slot_key(table_size, 0);
@@ -76,7 +76,6 @@ std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const Segme
         const Range r = cell_range(i, cls[i]);
         for (auto x = r.x0; x <= r.x1; ++x)
             for (auto y = r.y0; y <= r.y1; ++y) {
-                if (entry_seg.size() * 2 >= table_size) break;  // cannot happen: 2 x 2 cells at most
                 const std::uint64_t key = cell_key(cls[i], x, y);
                 const size_t slot = slot_of(key);
                 slot_key[slot] = key;
