@@ -1,6 +1,6 @@
 // meshd-cli: meshes a request file offline, with the same core and api as the server.
 //
-//   meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|svg] [--quiet]
+//   meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|svg] [--view X0,Y0,X1,Y1] [--quiet]
 //
 // The format comes from --format, else from the extension of OUT, else json. Without -o the
 // mesh goes to standard output. Metrics and, on a terminal, a progress bar go to stderr.
@@ -28,8 +28,9 @@ using namespace meshd;
 
 void usage() {
     std::fprintf(stderr,
-                 "usage: meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|svg] [--quiet]\n"
-                 "Meshes the request (see API.md) and writes the mesh; '-' reads standard input.\n");
+                 "usage: meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|svg] [--view X0,Y0,X1,Y1] [--quiet]\n"
+                 "Meshes the request (see API.md) and writes the mesh; '-' reads standard input.\n"
+                 "--view draws only that window of the plane (svg).\n");
 }
 
 class Progress : public core::Observer {
@@ -65,11 +66,23 @@ private:
 int main(int argc, char** argv) {
     std::string input, output, format_name;
     bool quiet = false;
+    std::optional<core::Box> view;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if ((a == "-o" || a == "--output") && i + 1 < argc) output = argv[++i];
         else if (a == "--format" && i + 1 < argc) format_name = argv[++i];
         else if (a == "--quiet" || a == "-q") quiet = true;
+        else if (a == "--view" && i + 1 < argc) {
+            double v[4];
+            if (std::sscanf(argv[++i], "%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3]) != 4 || !(v[2] > v[0]) || !(v[3] > v[1])) {
+                std::fprintf(stderr, "meshd-cli: --view wants X0,Y0,X1,Y1 with X1 > X0 and Y1 > Y0\n");
+                return 1;
+            }
+            core::Box b;
+            b.add(core::Vec2{v[0], v[1]});
+            b.add(core::Vec2{v[2], v[3]});
+            view = b;
+        }
         else if (a == "-h" || a == "--help") { usage(); return 0; }
         else if (input.empty()) input = a;
         else { usage(); return 1; }
@@ -102,13 +115,17 @@ int main(int argc, char** argv) {
         Progress progress(!quiet && isatty(2), req.timeout_s);
         const core::MeshResult r = api::run_request(req, &progress);
         progress.finish();
+        auto write = [&](std::ostream& os) {
+            if (*format == api::Format::Svg) api::write_svg(r, os, view);
+            else api::write_mesh(*format, r, os);
+        };
         if (output.empty()) {
-            api::write_mesh(*format, r, std::cout);
+            write(std::cout);
             std::cout.flush();
         } else {
             std::ofstream f(output, std::ios::binary);
             if (!f) { std::fprintf(stderr, "meshd-cli: cannot write %s\n", output.c_str()); return 1; }
-            api::write_mesh(*format, r, f);
+            write(f);
             if (!f) { std::fprintf(stderr, "meshd-cli: writing %s failed\n", output.c_str()); return 1; }
         }
         if (!quiet) {

@@ -248,11 +248,21 @@ void write_msh(const MeshResult& r, std::ostream& os) {
     os << "$EndElements\n";
 }
 
-void write_svg(const MeshResult& r, std::ostream& os) {
+void write_svg(const MeshResult& r, std::ostream& os, std::optional<core::Box> view) {
     const Mesh& m = r.mesh;
     core::Box b;
-    for (size_t v = 0; v < m.point_count(); ++v) b.add(m.point(static_cast<std::uint32_t>(v)));
+    if (view) {
+        b = *view;
+    } else {
+        for (size_t v = 0; v < m.point_count(); ++v) b.add(m.point(static_cast<std::uint32_t>(v)));
+    }
     if (b.empty()) b.add(core::Vec2{0, 0});
+    auto visible = [&](std::initializer_list<std::uint32_t> vs) {
+        if (!view) return true;
+        core::Box e;
+        for (auto v : vs) e.add(m.point(v));
+        return !(e.hi.x < b.lo.x || e.lo.x > b.hi.x || e.hi.y < b.lo.y || e.lo.y > b.hi.y);
+    };
     const double w = std::fmax(b.hi.x - b.lo.x, 1e-300), h = std::fmax(b.hi.y - b.lo.y, 1e-300);
     const double scale = 1000.0 / std::fmax(w, h);
     const double W = w * scale, H = h * scale;
@@ -264,6 +274,7 @@ void write_svg(const MeshResult& r, std::ostream& os) {
        << m.triangles.size() << " triangles</title>\n<g stroke=\"#333\" stroke-width=\"" << Num(stroke)
        << "\" stroke-linejoin=\"round\">\n";
     for (const auto& t : m.triangles) {
+        if (!visible({t.v[0], t.v[1], t.v[2]})) continue;
         // Quality 0 -> red, 0.5 -> yellow, 1 -> pale green.
         const double q = tri_quality(m, t);
         const int red = q < 0.5 ? 230 : static_cast<int>(230 - (q - 0.5) * 2 * 130);
@@ -281,7 +292,8 @@ void write_svg(const MeshResult& r, std::ostream& os) {
     for (size_t g = 0; g < groups.size(); ++g) {
         os << "<g stroke=\"" << kColours[g % kColours.size()] << "\" stroke-width=\"" << Num(4 * stroke)
            << "\" fill=\"none\"><title>" << nlohmann::json(m.tags[g]).dump() << "</title>\n<path d=\"";
-        for (const auto* e : groups[g]) os << 'M' << X(m.x[e->a]) << ' ' << Y(m.y[e->a]) << 'L' << X(m.x[e->b]) << ' ' << Y(m.y[e->b]);
+        for (const auto* e : groups[g])
+            if (visible({e->a, e->b})) os << 'M' << X(m.x[e->a]) << ' ' << Y(m.y[e->a]) << 'L' << X(m.x[e->b]) << ' ' << Y(m.y[e->b]);
         os << "\"/></g>\n";
     }
     os << "</svg>\n";

@@ -30,6 +30,8 @@ void write_json(const core::MeshResult& r, std::ostream& os);
 void write_vtk(const core::MeshResult& r, std::ostream& os);
 void write_su2(const core::MeshResult& r, std::ostream& os);
 void write_msh(const core::MeshResult& r, std::ostream& os);
-void write_svg(const core::MeshResult& r, std::ostream& os);
+/// view: the window of the plane to draw (default: the whole mesh); triangles and edges
+/// outside it are left out.
+void write_svg(const core::MeshResult& r, std::ostream& os, std::optional<core::Box> view = std::nullopt);
 
 }  // namespace meshd::api
