@@ -1,0 +1,34 @@
+#pragma once
+/// Server configuration: command-line flags, each with an environment variable (12-factor).
+/// A flag wins over its variable; both over the default.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace meshd::server {
+
+struct Config {
+    std::string host = "127.0.0.1";       ///< --host, MESHD_HOST
+    int port = 8080;                      ///< --port, MESHD_PORT (0: any free port)
+    int workers = 2;                      ///< --workers, MESHD_WORKERS: meshing threads
+    int http_threads = 16;                ///< --http-threads, MESHD_HTTP_THREADS
+    size_t queue_length = 16;             ///< --queue, MESHD_QUEUE: jobs waiting for a worker
+    size_t max_body_bytes = 32u << 20;    ///< --max-body-mb, MESHD_MAX_BODY_MB
+    size_t max_points = 5'000'000;        ///< --max-points, MESHD_MAX_POINTS: per job
+    double job_timeout_s = 300;           ///< --job-timeout-s, MESHD_JOB_TIMEOUT_S: wall time per job
+    double job_ttl_s = 900;               ///< --job-ttl-s, MESHD_JOB_TTL_S: finished jobs kept this long
+    size_t result_memory_bytes = 1u << 30;///< --result-memory-mb, MESHD_RESULT_MEMORY_MB
+    double drain_s = 30;                  ///< --drain-s, MESHD_DRAIN_S: grace on SIGTERM
+    std::string log_level = "info";       ///< --log-level, MESHD_LOG_LEVEL
+    bool log_json = false;                ///< --log-json, MESHD_LOG_JSON=1
+};
+
+/// Parses flags over environment over defaults. Throws std::invalid_argument with a message
+/// naming the flag. Sets `help` when --help was given.
+Config parse_config(const std::vector<std::string>& args, bool& help);
+
+/// The --help text.
+std::string help_text();
+
+}  // namespace meshd::server

@@ -1,0 +1,95 @@
+#pragma once
+/// Jobs: a bounded queue feeding a pool of meshing threads, separate from the HTTP threads.
+/// Jobs get unguessable ids, can be cancelled while queued or running (a running job stops at
+/// the core's next check, well within a second), expire some time after they finish, and
+/// their results share a memory budget (the oldest finished results are dropped first).
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "meshd/api/problem.hpp"
+#include "meshd/api/request.hpp"
+#include "meshd/core/mesher.hpp"
+#include "meshd/server/config.hpp"
+#include "meshd/server/metrics.hpp"
+
+namespace meshd::server {
+
+enum class JobStatus { Queued, Running, Succeeded, Failed, Cancelled };
+const char* to_string(JobStatus s);
+
+struct Job {
+    std::string id;
+    api::MeshRequest request;
+    std::chrono::system_clock::time_point submitted, started, finished;
+
+    // Written by the worker, read by HTTP threads: under `m`.
+    mutable std::mutex m;
+    std::condition_variable done_cv;
+    JobStatus status = JobStatus::Queued;
+    std::string stage = "queued";
+    double progress = 0.0;
+    std::shared_ptr<const core::MeshResult> result;
+    std::optional<api::Problem> error;
+    bool expired = false;  ///< result dropped (memory or age); the job record remains a while
+    size_t result_bytes = 0;
+
+    std::atomic<bool> cancel{false};
+
+    bool finished_locked() const {
+        return status == JobStatus::Succeeded || status == JobStatus::Failed || status == JobStatus::Cancelled;
+    }
+};
+
+class JobManager {
+public:
+    JobManager(const Config& config, Metrics& metrics);
+    ~JobManager();
+
+    /// Queues the request; nullptr when the queue is full or the manager is draining.
+    std::shared_ptr<Job> submit(api::MeshRequest request);
+    /// The job, or nullptr (unknown or forgotten).
+    std::shared_ptr<Job> find(const std::string& id);
+    /// Asks the job to stop; false when unknown.
+    bool cancel(const std::string& id);
+
+    size_t queued() const;
+    size_t busy() const;
+    bool full() const;
+    bool draining() const { return draining_; }
+
+    /// Stops taking jobs; waits up to `grace` for queued and running jobs to end, then
+    /// cancels what is left and joins the workers.
+    void drain(std::chrono::duration<double> grace);
+
+private:
+    void work();
+    void run(const std::shared_ptr<Job>& job);
+    void housekeeping();
+    static std::string new_id();
+
+    const Config& config_;
+    Metrics& metrics_;
+    mutable std::mutex m_;
+    std::condition_variable cv_;
+    std::deque<std::shared_ptr<Job>> queue_;
+    std::map<std::string, std::shared_ptr<Job>> jobs_;
+    std::deque<std::shared_ptr<Job>> finished_order_;  // for eviction, oldest first
+    size_t result_bytes_ = 0;
+    size_t busy_ = 0;
+    bool stop_ = false;
+    std::atomic<bool> draining_{false};
+    std::vector<std::thread> workers_;
+};
+
+}  // namespace meshd::server

@@ -1,0 +1,44 @@
+#pragma once
+/// The service's figures in the Prometheus text exposition format (version 0.0.4).
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace meshd::server {
+
+class Histogram {
+public:
+    explicit Histogram(std::vector<double> bounds) : bounds_(std::move(bounds)), counts_(bounds_.size() + 1, 0) {}
+    void observe(double v);
+    void render(std::string& out, const std::string& name, const std::string& labels) const;
+
+private:
+    std::vector<double> bounds_;
+    std::vector<std::uint64_t> counts_;
+    double sum_ = 0;
+    std::uint64_t count_ = 0;
+};
+
+class Metrics {
+public:
+    void request(const std::string& route, int status, double seconds);
+    void job_finished(const std::string& status, double seconds, std::uint64_t points, std::uint64_t triangles);
+    void set_queue(size_t depth, size_t busy);
+
+    std::string render() const;
+
+private:
+    mutable std::mutex m_;
+    std::map<std::pair<std::string, int>, std::uint64_t> requests_;
+    std::map<std::string, Histogram> request_seconds_;
+    std::map<std::string, std::uint64_t> jobs_;
+    Histogram job_seconds_{{0.01, 0.05, 0.1, 0.5, 1, 5, 10, 30, 60, 300}};
+    std::uint64_t points_ = 0, triangles_ = 0;
+    size_t queue_depth_ = 0, busy_ = 0;
+};
+
+}  // namespace meshd::server

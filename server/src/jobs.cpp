@@ -1,0 +1,303 @@
+#include "meshd/server/jobs.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <fstream>
+#include <random>
+
+#include "meshd/core/errors.hpp"
+
+namespace meshd::server {
+
+const char* to_string(JobStatus s) {
+    switch (s) {
+        case JobStatus::Queued: return "queued";
+        case JobStatus::Running: return "running";
+        case JobStatus::Succeeded: return "succeeded";
+        case JobStatus::Failed: return "failed";
+        case JobStatus::Cancelled: return "cancelled";
+    }
+    return "?";
+}
+
+namespace {
+
+// Progress and cancellation of one job, as the core sees them.
+class JobObserver : public core::Observer {
+public:
+    JobObserver(Job& job, std::chrono::steady_clock::time_point deadline) : job_(job), deadline_(deadline) {}
+    void on_progress(core::Stage stage, double fraction) override {
+        std::lock_guard<std::mutex> lock(job_.m);
+        job_.stage = core::to_string(stage);
+        job_.progress = fraction;
+    }
+    bool should_stop() override {
+        if (job_.cancel.load()) return true;
+        if (std::chrono::steady_clock::now() > deadline_) {
+            timed_out_ = true;
+            return true;
+        }
+        return false;
+    }
+    bool timed_out() const { return timed_out_; }
+
+private:
+    Job& job_;
+    std::chrono::steady_clock::time_point deadline_;
+    bool timed_out_ = false;
+};
+
+size_t result_size(const core::MeshResult& r) {
+    return r.mesh.point_count() * (2 * sizeof(double) + sizeof(core::PointKind) + sizeof(double)) +
+           r.mesh.triangles.size() * sizeof(core::Triangle) + r.mesh.edges.size() * sizeof(core::MeshEdge) + 4096;
+}
+
+}  // namespace
+
+JobManager::JobManager(const Config& config, Metrics& metrics) : config_(config), metrics_(metrics) {
+    for (int i = 0; i < config.workers; ++i) workers_.emplace_back([this] { work(); });
+}
+
+JobManager::~JobManager() {
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        stop_ = true;
+        for (auto& j : queue_) j->cancel = true;
+        for (auto& [id, j] : jobs_) j->cancel = true;
+    }
+    cv_.notify_all();
+    for (auto& t : workers_)
+        if (t.joinable()) t.join();
+}
+
+std::string JobManager::new_id() {
+    // 128 bits from the system's entropy source: ids cannot be guessed.
+    static thread_local std::random_device rd;
+    std::string id;
+    static const char* hex = "0123456789abcdef";
+    for (int i = 0; i < 4; ++i) {
+        std::uint32_t v = rd();
+        for (int k = 0; k < 8; ++k) {
+            id += hex[v & 15u];
+            v >>= 4;
+        }
+    }
+    return id;
+}
+
+std::shared_ptr<Job> JobManager::submit(api::MeshRequest request) {
+    auto job = std::make_shared<Job>();
+    job->request = std::move(request);
+    job->submitted = std::chrono::system_clock::now();
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        // Room for one job per worker plus the waiting queue.
+        if (draining_ || stop_ || queue_.size() + busy_ >= config_.queue_length + static_cast<size_t>(config_.workers))
+            return nullptr;
+        do job->id = new_id();
+        while (jobs_.count(job->id));
+        jobs_[job->id] = job;
+        queue_.push_back(job);
+        metrics_.set_queue(queue_.size(), busy_);
+    }
+    cv_.notify_one();
+    return job;
+}
+
+std::shared_ptr<Job> JobManager::find(const std::string& id) {
+    housekeeping();
+    std::lock_guard<std::mutex> lock(m_);
+    auto it = jobs_.find(id);
+    return it == jobs_.end() ? nullptr : it->second;
+}
+
+bool JobManager::cancel(const std::string& id) {
+    std::shared_ptr<Job> job = find(id);
+    if (!job) return false;
+    job->cancel = true;
+    bool now_cancelled = false;
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        // A queued job is cancelled at once; a running one by its worker.
+        for (auto it = queue_.begin(); it != queue_.end(); ++it) {
+            if (*it == job) {
+                queue_.erase(it);
+                now_cancelled = true;
+                break;
+            }
+        }
+        metrics_.set_queue(queue_.size(), busy_);
+    }
+    if (now_cancelled) {
+        {
+            std::lock_guard<std::mutex> lock(job->m);
+            job->status = JobStatus::Cancelled;
+            job->stage = "cancelled";
+            job->finished = std::chrono::system_clock::now();
+        }
+        job->done_cv.notify_all();
+        metrics_.job_finished("cancelled", 0.0, 0, 0);
+        spdlog::info("job {} cancelled while queued", job->id);
+        std::lock_guard<std::mutex> lock(m_);
+        finished_order_.push_back(job);
+    }
+    return true;
+}
+
+size_t JobManager::queued() const {
+    std::lock_guard<std::mutex> lock(m_);
+    return queue_.size();
+}
+
+size_t JobManager::busy() const {
+    std::lock_guard<std::mutex> lock(m_);
+    return busy_;
+}
+
+bool JobManager::full() const {
+    std::lock_guard<std::mutex> lock(m_);
+    return queue_.size() + busy_ >= config_.queue_length + static_cast<size_t>(config_.workers);
+}
+
+void JobManager::work() {
+    for (;;) {
+        std::shared_ptr<Job> job;
+        {
+            std::unique_lock<std::mutex> lock(m_);
+            cv_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+            if (queue_.empty()) return;  // stop_ and nothing left
+            job = queue_.front();
+            queue_.pop_front();
+            ++busy_;
+            metrics_.set_queue(queue_.size(), busy_);
+        }
+        run(job);
+        {
+            std::lock_guard<std::mutex> lock(m_);
+            --busy_;
+            metrics_.set_queue(queue_.size(), busy_);
+            finished_order_.push_back(job);
+        }
+        cv_.notify_all();
+        housekeeping();
+    }
+}
+
+void JobManager::run(const std::shared_ptr<Job>& job) {
+    const auto t0 = std::chrono::steady_clock::now();
+    {
+        std::lock_guard<std::mutex> lock(job->m);
+        job->status = JobStatus::Running;
+        job->stage = "boundary";
+        job->started = std::chrono::system_clock::now();
+    }
+    double limit = config_.job_timeout_s;
+    if (job->request.timeout_s) limit = std::min(limit, *job->request.timeout_s);
+    JobObserver obs(*job, t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(limit)));
+    std::shared_ptr<const core::MeshResult> result;
+    std::optional<api::Problem> error;
+    JobStatus status = JobStatus::Succeeded;
+    try {
+        if (job->cancel) throw core::Cancelled();
+        api::MeshRequest req = job->request;
+        const size_t cap = config_.max_points;
+        req.options.max_points = req.options.max_points ? std::min(req.options.max_points, cap) : cap;
+        result = std::make_shared<const core::MeshResult>(api::run_request(req, &obs));
+    } catch (const api::RequestError& e) {
+        status = JobStatus::Failed;
+        error = e.problem();
+    } catch (const core::GeometryError& e) {
+        status = JobStatus::Failed;
+        error = api::problem_from(e);
+        if (error->status == 413 && !job->request.max_points) {
+            error->detail += " (the server's limit is " + std::to_string(config_.max_points) + " points)";
+        }
+    } catch (const core::Cancelled&) {
+        if (obs.timed_out()) {
+            status = JobStatus::Failed;
+            error = api::Problem{422, "/v1/problems/timeout", "Time limit exceeded",
+                                 "the mesh was not finished within " + std::to_string(limit) + " s",
+                                 job->request.timeout_s ? "/options/timeout_s" : ""};
+        } else {
+            status = JobStatus::Cancelled;
+        }
+    } catch (const std::exception& e) {
+        status = JobStatus::Failed;
+        error = api::Problem{500, "/v1/problems/internal", "Internal error",
+                             std::string("meshd failed on this request (a bug; please report it with the request): ") + e.what(), ""};
+        spdlog::error("job {} internal error: {}", job->id, e.what());
+    }
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const size_t bytes = result ? result_size(*result) : 0;
+    {
+        std::lock_guard<std::mutex> lock(job->m);
+        job->status = status;
+        job->stage = to_string(status);
+        job->progress = status == JobStatus::Succeeded ? 1.0 : job->progress;
+        job->result = result;
+        job->error = error;
+        job->result_bytes = bytes;
+        job->finished = std::chrono::system_clock::now();
+    }
+    job->done_cv.notify_all();
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        result_bytes_ += bytes;
+    }
+    metrics_.job_finished(to_string(status), secs, result ? result->quality.points : 0,
+                          result ? result->quality.triangles : 0);
+    spdlog::info("job {} {} points={} triangles={} time_ms={:.1f}{}", job->id, to_string(status),
+                 result ? result->quality.points : 0, result ? result->quality.triangles : 0, secs * 1000.0,
+                 error ? " problem=" + error->type : std::string());
+}
+
+void JobManager::housekeeping() {
+    const auto now = std::chrono::system_clock::now();
+    const auto ttl = std::chrono::duration_cast<std::chrono::system_clock::duration>(std::chrono::duration<double>(config_.job_ttl_s));
+    std::lock_guard<std::mutex> lock(m_);
+    // Results over budget: drop the oldest first.
+    while (result_bytes_ > config_.result_memory_bytes && !finished_order_.empty()) {
+        auto job = finished_order_.front();
+        finished_order_.pop_front();
+        std::lock_guard<std::mutex> jl(job->m);
+        if (job->result) {
+            result_bytes_ -= job->result_bytes;
+            job->result.reset();
+            job->expired = true;
+        }
+    }
+    // Old jobs: forget them.
+    while (!finished_order_.empty()) {
+        auto job = finished_order_.front();
+        std::chrono::system_clock::time_point fin;
+        {
+            std::lock_guard<std::mutex> jl(job->m);
+            fin = job->finished;
+        }
+        if (now - fin < ttl) break;
+        finished_order_.pop_front();
+        std::lock_guard<std::mutex> jl(job->m);
+        if (job->result) result_bytes_ -= job->result_bytes;
+        job->result.reset();
+        job->expired = true;
+        jobs_.erase(job->id);
+    }
+}
+
+void JobManager::drain(std::chrono::duration<double> grace) {
+    draining_ = true;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(grace);
+    {
+        std::unique_lock<std::mutex> lock(m_);
+        cv_.wait_until(lock, until, [&] { return queue_.empty() && busy_ == 0; });
+        stop_ = true;
+        for (auto& j : queue_) j->cancel = true;
+        for (auto& [id, j] : jobs_) j->cancel = true;
+    }
+    cv_.notify_all();
+    for (auto& t : workers_)
+        if (t.joinable()) t.join();
+    workers_.clear();
+}
+
+}  // namespace meshd::server

@@ -1,0 +1,71 @@
+// meshd: the HTTP server. Configuration by flags and environment (meshd --help); logs to
+// stdout; SIGTERM or SIGINT drains (readiness off, running jobs finish within --drain-s)
+// and exits 0.
+
+#include <signal.h>
+#include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <cstdio>
+#include <thread>
+
+#include "meshd/server/config.hpp"
+#include "meshd/server/service.hpp"
+
+namespace {
+
+std::atomic<int> g_signal{0};
+
+void on_signal(int sig) { g_signal = sig; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace meshd::server;
+    Config config;
+    try {
+        bool help = false;
+        config = parse_config(std::vector<std::string>(argv + 1, argv + argc), help);
+        if (help) {
+            std::fputs(help_text().c_str(), stdout);
+            return 0;
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "meshd: %s\n", e.what());
+        return 2;
+    }
+    auto logger = spdlog::stdout_logger_mt("meshd");
+    spdlog::set_default_logger(logger);
+    spdlog::set_level(spdlog::level::from_str(config.log_level));
+    if (config.log_json)
+        spdlog::set_pattern(R"({"time":"%Y-%m-%dT%H:%M:%S.%eZ","level":"%l","log":%v})", spdlog::pattern_time_type::utc);
+    else
+        spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%eZ %l %v", spdlog::pattern_time_type::utc);
+    spdlog::flush_on(spdlog::level::info);
+
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, nullptr);
+    sigaction(SIGINT, &sa, nullptr);
+    signal(SIGPIPE, SIG_IGN);
+
+    Service service(config);
+    const int port = service.bind();
+    if (port < 0) {
+        spdlog::error("cannot bind {}:{}", config.host, config.port);
+        return 1;
+    }
+    spdlog::info("meshd listening on {}:{} with {} workers, queue {}", config.host, port, config.workers, config.queue_length);
+    std::thread watcher([&] {
+        while (g_signal == 0 && !(service.running() == false && g_signal != 0)) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        spdlog::info("signal {} received", g_signal.load());
+        service.drain();
+    });
+    const bool ok = service.listen();
+    if (g_signal == 0) g_signal = -1;  // the server stopped on its own: let the watcher end
+    watcher.join();
+    spdlog::info("meshd stopped");
+    return ok || g_signal > 0 ? 0 : 1;
+}

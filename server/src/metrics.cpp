@@ -1,0 +1,83 @@
+#include "meshd/server/metrics.hpp"
+
+#include <cstdio>
+
+namespace meshd::server {
+
+namespace {
+
+std::string num(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
+}
+
+const std::vector<double> kRequestBounds{0.001, 0.005, 0.01, 0.05, 0.1, 0.5, 1, 5, 10, 60};
+
+}  // namespace
+
+void Histogram::observe(double v) {
+    size_t i = 0;
+    while (i < bounds_.size() && v > bounds_[i]) ++i;
+    ++counts_[i];
+    sum_ += v;
+    ++count_;
+}
+
+void Histogram::render(std::string& out, const std::string& name, const std::string& labels) const {
+    const std::string sep = labels.empty() ? "" : ",";
+    std::uint64_t acc = 0;
+    for (size_t i = 0; i < bounds_.size(); ++i) {
+        acc += counts_[i];
+        out += name + "_bucket{" + labels + sep + "le=\"" + num(bounds_[i]) + "\"} " + std::to_string(acc) + "\n";
+    }
+    acc += counts_.back();
+    out += name + "_bucket{" + labels + sep + "le=\"+Inf\"} " + std::to_string(acc) + "\n";
+    const std::string l = labels.empty() ? "" : "{" + labels + "}";
+    out += name + "_sum" + l + " " + num(sum_) + "\n";
+    out += name + "_count" + l + " " + std::to_string(count_) + "\n";
+}
+
+void Metrics::request(const std::string& route, int status, double seconds) {
+    std::lock_guard<std::mutex> lock(m_);
+    ++requests_[{route, status}];
+    request_seconds_.try_emplace(route, kRequestBounds).first->second.observe(seconds);
+}
+
+void Metrics::job_finished(const std::string& status, double seconds, std::uint64_t points, std::uint64_t triangles) {
+    std::lock_guard<std::mutex> lock(m_);
+    ++jobs_[status];
+    job_seconds_.observe(seconds);
+    points_ += points;
+    triangles_ += triangles;
+}
+
+void Metrics::set_queue(size_t depth, size_t busy) {
+    std::lock_guard<std::mutex> lock(m_);
+    queue_depth_ = depth;
+    busy_ = busy;
+}
+
+std::string Metrics::render() const {
+    std::lock_guard<std::mutex> lock(m_);
+    std::string o;
+    o += "# HELP meshd_http_requests_total HTTP requests by route and status.\n# TYPE meshd_http_requests_total counter\n";
+    for (const auto& [k, v] : requests_)
+        o += "meshd_http_requests_total{route=\"" + k.first + "\",status=\"" + std::to_string(k.second) + "\"} " + std::to_string(v) + "\n";
+    o += "# HELP meshd_http_request_duration_seconds Time to answer a request.\n# TYPE meshd_http_request_duration_seconds histogram\n";
+    for (const auto& [route, h] : request_seconds_) h.render(o, "meshd_http_request_duration_seconds", "route=\"" + route + "\"");
+    o += "# HELP meshd_jobs_total Jobs by final status.\n# TYPE meshd_jobs_total counter\n";
+    for (const char* s : {"succeeded", "failed", "cancelled"}) {
+        auto it = jobs_.find(s);
+        o += std::string("meshd_jobs_total{status=\"") + s + "\"} " + std::to_string(it == jobs_.end() ? 0 : it->second) + "\n";
+    }
+    o += "# HELP meshd_job_duration_seconds Time from start to end of a job.\n# TYPE meshd_job_duration_seconds histogram\n";
+    job_seconds_.render(o, "meshd_job_duration_seconds", "");
+    o += "# HELP meshd_queue_depth Jobs waiting for a worker.\n# TYPE meshd_queue_depth gauge\nmeshd_queue_depth " + std::to_string(queue_depth_) + "\n";
+    o += "# HELP meshd_workers_busy Workers meshing now.\n# TYPE meshd_workers_busy gauge\nmeshd_workers_busy " + std::to_string(busy_) + "\n";
+    o += "# HELP meshd_points_total Points of all meshes made.\n# TYPE meshd_points_total counter\nmeshd_points_total " + std::to_string(points_) + "\n";
+    o += "# HELP meshd_triangles_total Triangles of all meshes made.\n# TYPE meshd_triangles_total counter\nmeshd_triangles_total " + std::to_string(triangles_) + "\n";
+    return o;
+}
+
+}  // namespace meshd::server

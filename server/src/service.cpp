@@ -1,0 +1,358 @@
+// The routes of API.md.
+
+#include "meshd/server/service.hpp"
+
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+
+#include <cctype>
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <streambuf>
+
+#include "meshd/api/problem.hpp"
+#include "meshd/api/request.hpp"
+#include "meshd/api/writers.hpp"
+
+namespace meshd::server {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+constexpr const char* kProblemType = "application/problem+json";
+
+thread_local std::chrono::steady_clock::time_point request_start;
+
+void send_problem(httplib::Response& res, const api::Problem& p) {
+    res.status = p.status;
+    res.set_content(p.to_json(), kProblemType);
+}
+
+api::Problem problem(int status, const std::string& kind, const std::string& title, const std::string& detail,
+                     const std::string& pointer = "") {
+    return api::Problem{status, "/v1/problems/" + kind, title, detail, pointer};
+}
+
+std::string rfc3339(std::chrono::system_clock::time_point t) {
+    if (t.time_since_epoch().count() == 0) return "";
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count();
+    const std::time_t secs = static_cast<std::time_t>(ms / 1000);
+    std::tm tm{};
+    gmtime_r(&secs, &tm);
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
+                  tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<int>(ms % 1000));
+    return buf;
+}
+
+std::string route_of(const std::string& path) {
+    if (path == "/v1/meshes" || path == "/v1/jobs" || path == "/healthz" || path == "/livez" || path == "/readyz" ||
+        path == "/metrics" || path == "/v1/openapi.json")
+        return path;
+    if (path.rfind("/v1/jobs/", 0) == 0) {
+        const std::string rest = path.substr(9);
+        if (rest.find('/') == std::string::npos) return "/v1/jobs/{id}";
+        if (rest.size() > 5 && rest.compare(rest.size() - 5, 5, "/mesh") == 0 && rest.find('/') == rest.size() - 5)
+            return "/v1/jobs/{id}/mesh";
+    }
+    return "other";
+}
+
+// Streams what a writer puts in an ostream into the HTTP response, in 64 KiB chunks.
+class SinkBuf : public std::streambuf {
+public:
+    explicit SinkBuf(httplib::DataSink& sink) : sink_(sink), buf_(1 << 16) { setp(buf_.data(), buf_.data() + buf_.size()); }
+    ~SinkBuf() override { sync(); }
+    bool ok() const { return ok_; }
+
+protected:
+    int overflow(int c) override {
+        if (sync() != 0) return traits_type::eof();
+        if (c != traits_type::eof()) {
+            *pptr() = static_cast<char>(c);
+            pbump(1);
+        }
+        return c == traits_type::eof() ? 0 : c;
+    }
+    int sync() override {
+        const auto n = static_cast<size_t>(pptr() - pbase());
+        if (n > 0 && ok_) ok_ = sink_.write(pbase(), n);
+        setp(buf_.data(), buf_.data() + buf_.size());
+        return ok_ ? 0 : -1;
+    }
+
+private:
+    httplib::DataSink& sink_;
+    std::vector<char> buf_;
+    bool ok_ = true;
+};
+
+void send_mesh(httplib::Response& res, std::shared_ptr<const core::MeshResult> result, api::Format f) {
+    res.status = 200;
+    res.set_chunked_content_provider(api::content_type(f), [result, f](size_t, httplib::DataSink& sink) {
+        {
+            SinkBuf buf(sink);
+            std::ostream os(&buf);
+            api::write_mesh(f, *result, os);
+            os.flush();
+        }
+        sink.done();
+        return true;
+    });
+}
+
+std::optional<api::Format> format_of(const httplib::Request& req, httplib::Response& res) {
+    const std::string name = req.has_param("format") ? req.get_param_value("format") : "json";
+    auto f = api::parse_format(name);
+    if (!f)
+        send_problem(res, problem(400, "unknown-format", "Unknown format",
+                                  "format \"" + name + "\" is not one of json, vtk, su2, msh, svg"));
+    return f;
+}
+
+bool json_body(const httplib::Request& req, httplib::Response& res) {
+    std::string ct = req.get_header_value("Content-Type");
+    for (char& c : ct) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const bool ok = ct.rfind("application/json", 0) == 0 ||
+                    (ct.find("+json") != std::string::npos && ct.rfind("application/", 0) == 0);
+    if (!ok)
+        send_problem(res, problem(415, "unsupported-media-type", "Unsupported media type",
+                                  "send the request as application/json (got \"" + ct + "\")"));
+    return ok;
+}
+
+json job_json(const Job& j) {
+    std::lock_guard<std::mutex> lock(j.m);
+    json o;
+    o["id"] = j.id;
+    o["status"] = to_string(j.status);
+    o["progress"] = j.progress;
+    o["stage"] = j.stage;
+    o["submitted_at"] = rfc3339(j.submitted);
+    if (j.status != JobStatus::Queued && j.started.time_since_epoch().count()) o["started_at"] = rfc3339(j.started);
+    if (j.finished_locked()) o["finished_at"] = rfc3339(j.finished);
+    if (j.status == JobStatus::Succeeded && j.result) o["metrics"] = json::parse(api::metrics_json(*j.result));
+    if (j.status == JobStatus::Succeeded && j.expired) o["expired"] = true;
+    if (j.error) o["error"] = json::parse(j.error->to_json());
+    return o;
+}
+
+}  // namespace
+
+Service::Service(Config config) : config_(std::move(config)) {
+    jobs_ = std::make_unique<JobManager>(config_, metrics_);
+    http_ = std::make_unique<httplib::Server>();
+    install();
+}
+
+Service::~Service() {
+    stop();
+}
+
+int Service::bind() {
+    if (config_.port == 0) return http_->bind_to_any_port(config_.host);
+    return http_->bind_to_port(config_.host, config_.port) ? config_.port : -1;
+}
+
+bool Service::listen() { return http_->listen_after_bind(); }
+bool Service::running() const { return http_->is_running(); }
+
+void Service::drain() {
+    if (draining_.exchange(true)) return;
+    spdlog::info("draining: readiness off, no new jobs, waiting up to {} s for running jobs", config_.drain_s);
+    jobs_->drain(std::chrono::duration<double>(config_.drain_s));
+    spdlog::info("drained; stopping");
+    http_->stop();
+}
+
+void Service::stop() {
+    if (http_) http_->stop();
+}
+
+void Service::install() {
+    httplib::Server& s = *http_;
+    const int threads = config_.http_threads;
+    s.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<size_t>(threads)); };
+    s.set_payload_max_length(config_.max_body_bytes);
+    s.set_read_timeout(30, 0);
+    s.set_write_timeout(60, 0);
+    s.set_keep_alive_max_count(1000);
+
+    auto add = [&](const char* method, const char* path) { routes_.push_back({method, path}); };
+
+    s.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
+        request_start = std::chrono::steady_clock::now();
+        return httplib::Server::HandlerResponse::Unhandled;
+    });
+    s.set_logger([this](const httplib::Request& req, const httplib::Response& res) {
+        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - request_start).count();
+        const std::string route = route_of(req.path);
+        metrics_.request(route, res.status, secs);
+        if (config_.log_json) {
+            json l{{"msg", "request"}, {"method", req.method}, {"path", req.path}, {"status", res.status},
+                   {"ms", secs * 1000.0}};
+            spdlog::info("{}", l.dump());
+        } else {
+            spdlog::info("{} {} {} {:.1f}ms", req.method, req.path, res.status, secs * 1000.0);
+        }
+    });
+    s.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+        if (!res.body.empty()) return;
+        switch (res.status) {
+            case 404: send_problem(res, problem(404, "not-found", "Not found", "no route for " + req.method + " " + req.path)); break;
+            case 405: send_problem(res, problem(405, "method-not-allowed", "Method not allowed", req.method + " " + req.path)); break;
+            case 413: send_problem(res, problem(413, "body-too-large", "Request too large", "the body exceeds the server's limit")); break;
+            case 400: send_problem(res, problem(400, "bad-request", "Bad request", "the HTTP request is malformed")); break;
+            default: send_problem(res, problem(res.status, "http-" + std::to_string(res.status), "HTTP error", "status " + std::to_string(res.status)));
+        }
+    });
+    s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+        std::string what = "unknown";
+        try {
+            if (ep) std::rethrow_exception(ep);
+        } catch (const std::exception& e) {
+            what = e.what();
+        } catch (...) {
+        }
+        spdlog::error("unhandled exception in a handler: {}", what);
+        send_problem(res, problem(500, "internal", "Internal error", "meshd failed on this request (a bug): " + what));
+    });
+
+    auto refuse_busy = [this](httplib::Response& res) {
+        if (jobs_->draining()) {
+            res.set_header("Retry-After", "5");
+            send_problem(res, problem(503, "draining", "Shutting down", "the server is draining and takes no new jobs"));
+        } else {
+            res.set_header("Retry-After", "1");
+            send_problem(res, problem(429, "queue-full", "Too many jobs", "the job queue is full; retry later"));
+        }
+    };
+
+    // POST /v1/meshes: mesh synchronously (through the job queue, so the pool bounds the work).
+    add("post", "/v1/meshes");
+    s.Post("/v1/meshes", [this, refuse_busy](const httplib::Request& req, httplib::Response& res) {
+        const auto f = format_of(req, res);
+        if (!f || !json_body(req, res)) return;
+        api::MeshRequest mr;
+        try {
+            mr = api::parse_request(req.body);
+        } catch (const api::RequestError& e) {
+            send_problem(res, e.problem());
+            return;
+        }
+        auto job = jobs_->submit(std::move(mr));
+        if (!job) return refuse_busy(res);
+        std::unique_lock<std::mutex> lock(job->m);
+        job->done_cv.wait(lock, [&] { return job->finished_locked(); });
+        if (job->status == JobStatus::Succeeded) {
+            auto result = job->result;
+            lock.unlock();
+            send_mesh(res, std::move(result), *f);
+        } else if (job->status == JobStatus::Failed) {
+            send_problem(res, *job->error);
+        } else {
+            send_problem(res, problem(503, "cancelled", "Cancelled", "the job was cancelled (the server is shutting down)"));
+        }
+    });
+
+    // POST /v1/jobs: queue.
+    add("post", "/v1/jobs");
+    s.Post("/v1/jobs", [this, refuse_busy](const httplib::Request& req, httplib::Response& res) {
+        if (!json_body(req, res)) return;
+        api::MeshRequest mr;
+        try {
+            mr = api::parse_request(req.body);
+        } catch (const api::RequestError& e) {
+            send_problem(res, e.problem());
+            return;
+        }
+        auto job = jobs_->submit(std::move(mr));
+        if (!job) return refuse_busy(res);
+        res.status = 202;
+        res.set_header("Location", "/v1/jobs/" + job->id);
+        res.set_content(json{{"id", job->id}, {"status", "queued"}}.dump(), "application/json");
+    });
+
+    auto unknown_job = [](httplib::Response& res, const std::string& id) {
+        send_problem(res, problem(404, "unknown-job", "Unknown job", "no job \"" + id + "\" (never made, or expired)"));
+    };
+
+    add("get", "/v1/jobs/{id}");
+    s.Get(R"(/v1/jobs/([0-9a-f]+))", [this, unknown_job](const httplib::Request& req, httplib::Response& res) {
+        auto job = jobs_->find(req.matches[1]);
+        if (!job) return unknown_job(res, req.matches[1]);
+        const json j = job_json(*job);
+        if (j["status"] == "queued" || j["status"] == "running") res.set_header("Retry-After", "1");
+        res.set_content(j.dump(), "application/json");
+    });
+
+    add("get", "/v1/jobs/{id}/mesh");
+    s.Get(R"(/v1/jobs/([0-9a-f]+)/mesh)", [this, unknown_job](const httplib::Request& req, httplib::Response& res) {
+        const auto f = format_of(req, res);
+        if (!f) return;
+        auto job = jobs_->find(req.matches[1]);
+        if (!job) return unknown_job(res, req.matches[1]);
+        std::unique_lock<std::mutex> lock(job->m);
+        switch (job->status) {
+            case JobStatus::Queued:
+            case JobStatus::Running:
+                res.set_header("Retry-After", "1");
+                return send_problem(res, problem(409, "not-finished", "Not finished", "the job is " + std::string(to_string(job->status))));
+            case JobStatus::Cancelled:
+                return send_problem(res, problem(410, "cancelled", "Gone", "the job was cancelled"));
+            case JobStatus::Failed:
+                return send_problem(res, *job->error);
+            case JobStatus::Succeeded:
+                break;
+        }
+        if (!job->result) return send_problem(res, problem(410, "expired", "Gone", "the mesh has expired; submit the request again"));
+        auto result = job->result;
+        lock.unlock();
+        send_mesh(res, std::move(result), *f);
+    });
+
+    add("delete", "/v1/jobs/{id}");
+    s.Delete(R"(/v1/jobs/([0-9a-f]+))", [this, unknown_job](const httplib::Request& req, httplib::Response& res) {
+        if (!jobs_->cancel(req.matches[1])) return unknown_job(res, req.matches[1]);
+        auto job = jobs_->find(req.matches[1]);
+        if (!job) return unknown_job(res, req.matches[1]);
+        const json j = job_json(*job);
+        res.status = (j["status"] == "running") ? 202 : 200;
+        res.set_content(j.dump(), "application/json");
+    });
+
+    auto health = [](const httplib::Request&, httplib::Response& res) {
+        res.set_content(R"({"status":"ok"})", "application/json");
+    };
+    add("get", "/healthz");
+    s.Get("/healthz", health);
+    add("get", "/livez");
+    s.Get("/livez", health);
+
+    add("get", "/readyz");
+    s.Get("/readyz", [this](const httplib::Request&, httplib::Response& res) {
+        if (jobs_->draining() || draining_) {
+            res.set_header("Retry-After", "5");
+            return send_problem(res, problem(503, "draining", "Not ready", "the server is draining"));
+        }
+        if (jobs_->full()) {
+            res.set_header("Retry-After", "1");
+            return send_problem(res, problem(503, "queue-full", "Not ready", "the job queue is full"));
+        }
+        res.set_content(R"({"status":"ready"})", "application/json");
+    });
+
+    add("get", "/metrics");
+    s.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
+        metrics_.set_queue(jobs_->queued(), jobs_->busy());
+        res.set_content(metrics_.render(), "text/plain; version=0.0.4; charset=utf-8");
+    });
+
+    add("get", "/v1/openapi.json");
+    s.Get("/v1/openapi.json", [this](const httplib::Request&, httplib::Response& res) {
+        res.set_content(openapi(), "application/json");
+    });
+}
+
+}  // namespace meshd::server

@@ -1,0 +1,318 @@
+// Integration tests: the real meshd binary on a loopback port, a real HTTP client.
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "server_process.hpp"
+
+using json = nlohmann::ordered_json;
+using meshd::test::ServerProcess;
+
+namespace {
+
+std::string read_file(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::ostringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+const std::string& naca_request() {
+    static const std::string s = read_file(MESHD_SOURCE_DIR "/examples/naca0012.json");
+    return s;
+}
+
+// A request that takes a while (about a second or more): a fine uniform square.
+std::string slow_request(double size = 0.0015) {
+    json j = json::parse(R"({"geometry": {"points": {"A": [0,0], "B": [1,0], "C": [1,1], "D": [0,1]},
+        "curves": {"b": {"type": "line", "from": "A", "to": "B"}, "r": {"type": "line", "from": "B", "to": "C"},
+                   "t": {"type": "line", "from": "C", "to": "D"}, "l": {"type": "line", "from": "D", "to": "A"}},
+        "loops": [["b", "r", "t", "l"]]}, "density": {"size": 0.1}})");
+    j["density"]["size"] = size;
+    return j.dump();
+}
+
+httplib::Client client(const ServerProcess& s) {
+    httplib::Client c("127.0.0.1", s.port());
+    c.set_read_timeout(60, 0);
+    c.set_write_timeout(60, 0);
+    return c;
+}
+
+json wait_for_job(httplib::Client& c, const std::string& id, double seconds = 60) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    json j;
+    while (std::chrono::steady_clock::now() < until) {
+        auto r = c.Get(("/v1/jobs/" + id).c_str());
+        if (!r || r->status != 200) return json{{"status", "http-" + std::to_string(r ? r->status : -1)}};
+        j = json::parse(r->body);
+        if (j["status"] != "queued" && j["status"] != "running") return j;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return j;
+}
+
+std::string cli_output(const std::string& format) {
+    const std::string out = ::testing::TempDir() + "/cli_mesh." + format;
+    const std::string cmd = std::string(MESHD_CLI_BINARY) + " " MESHD_SOURCE_DIR "/examples/naca0012.json -q -o " + out;
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+    return read_file(out);
+}
+
+}  // namespace
+
+TEST(Http, HealthReadinessMetricsOpenApi) {
+    ServerProcess s({});
+    auto c = client(s);
+    for (const char* p : {"/healthz", "/livez", "/readyz"}) {
+        auto r = c.Get(p);
+        ASSERT_TRUE(r) << p;
+        EXPECT_EQ(r->status, 200) << p;
+    }
+    auto m = c.Get("/metrics");
+    ASSERT_TRUE(m);
+    EXPECT_EQ(m->status, 200);
+    EXPECT_NE(m->get_header_value("Content-Type").find("text/plain"), std::string::npos);
+    for (const char* name : {"meshd_http_requests_total", "meshd_http_request_duration_seconds_bucket", "meshd_jobs_total",
+                             "meshd_queue_depth", "meshd_workers_busy", "meshd_points_total", "meshd_triangles_total",
+                             "meshd_job_duration_seconds_bucket"})
+        EXPECT_NE(m->body.find(name), std::string::npos) << name;
+
+    // OpenAPI: every documented operation exists, and every route is documented.
+    auto o = c.Get("/v1/openapi.json");
+    ASSERT_TRUE(o);
+    const json doc = json::parse(o->body);
+    EXPECT_EQ(doc["openapi"].get<std::string>().substr(0, 2), "3.");
+    std::set<std::string> documented;
+    for (const auto& [path, ops] : doc["paths"].items())
+        for (const auto& [method, op] : ops.items()) documented.insert(method + " " + path);
+    const std::set<std::string> expected{"post /v1/meshes", "post /v1/jobs", "get /v1/jobs/{id}", "get /v1/jobs/{id}/mesh",
+                                         "delete /v1/jobs/{id}", "get /healthz", "get /livez", "get /readyz",
+                                         "get /metrics", "get /v1/openapi.json"};
+    EXPECT_EQ(documented, expected);
+    // Probe them: a route that exists never answers "no route" (404 with type not-found).
+    for (const std::string& op : documented) {
+        const auto sp = op.find(' ');
+        std::string method = op.substr(0, sp), path = op.substr(sp + 1);
+        const auto id = path.find("{id}");
+        if (id != std::string::npos) path.replace(id, 4, "0123abcd");
+        httplib::Result r = method == "get" ? c.Get(path.c_str())
+                            : method == "delete" ? c.Delete(path.c_str())
+                                                 : c.Post(path.c_str(), "{}", "application/json");
+        ASSERT_TRUE(r) << op;
+        if (r->status == 404) {
+            EXPECT_EQ(json::parse(r->body)["type"], "/v1/problems/unknown-job") << op;
+        }
+    }
+    auto none = c.Get("/v2/nothing");
+    ASSERT_TRUE(none);
+    EXPECT_EQ(none->status, 404);
+    EXPECT_EQ(none->get_header_value("Content-Type"), "application/problem+json");
+}
+
+TEST(Http, SyncMeshInEveryFormatMatchesTheCli) {
+    ServerProcess s({});
+    auto c = client(s);
+    auto r = c.Post("/v1/meshes", naca_request(), "application/json");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body;
+    const json j = json::parse(r->body);
+    EXPECT_EQ(j["metrics"]["triangles"].get<size_t>(), j["mesh"]["triangles"].size());
+    EXPECT_TRUE(j["mesh"]["boundaries"].contains("wall"));
+    EXPECT_TRUE(j["mesh"]["boundaries"].contains("farfield"));
+    const std::map<std::string, std::string> types{{"vtk", "application/octet-stream"}, {"su2", "text/plain"},
+                                                   {"msh", "text/plain"}, {"svg", "image/svg+xml"}};
+    for (const auto& [fmt, type] : types) {
+        auto f = c.Post(("/v1/meshes?format=" + fmt).c_str(), naca_request(), "application/json");
+        ASSERT_TRUE(f) << fmt;
+        ASSERT_EQ(f->status, 200) << fmt;
+        EXPECT_EQ(f->get_header_value("Content-Type").rfind(type, 0), 0u) << fmt;
+        // The same bytes as the CLI's file, which tests/formats reads back with meshio, VTK and gmsh.
+        EXPECT_EQ(f->body, cli_output(fmt)) << fmt;
+    }
+    auto bad = c.Post("/v1/meshes?format=stl", naca_request(), "application/json");
+    ASSERT_TRUE(bad);
+    EXPECT_EQ(bad->status, 400);
+}
+
+TEST(Http, AsyncLifeCycle) {
+    ServerProcess s({});
+    auto c = client(s);
+    auto r = c.Post("/v1/jobs", naca_request(), "application/json");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 202);
+    const json created = json::parse(r->body);
+    const std::string id = created["id"];
+    EXPECT_EQ(created["status"], "queued");
+    EXPECT_EQ(r->get_header_value("Location"), "/v1/jobs/" + id);
+    EXPECT_GE(id.size(), 32u);  // 128 random bits
+    const json done = wait_for_job(c, id);
+    ASSERT_EQ(done["status"], "succeeded");
+    EXPECT_EQ(done["progress"], 1.0);
+    for (const char* k : {"submitted_at", "started_at", "finished_at"}) {
+        ASSERT_TRUE(done.contains(k)) << k;
+        EXPECT_EQ(done[k].get<std::string>().back(), 'Z') << k;
+    }
+    EXPECT_GT(done["metrics"]["triangles"].get<int>(), 1000);
+    auto mesh = c.Get(("/v1/jobs/" + id + "/mesh?format=su2").c_str());
+    ASSERT_TRUE(mesh);
+    EXPECT_EQ(mesh->status, 200);
+    EXPECT_EQ(mesh->body, cli_output("su2"));
+    auto unknown = c.Get("/v1/jobs/00000000000000000000000000000000");
+    ASSERT_TRUE(unknown);
+    EXPECT_EQ(unknown->status, 404);
+}
+
+TEST(Http, NotFinishedThenCancelWhileRunning) {
+    ServerProcess s({"--workers", "1"});
+    auto c = client(s);
+    auto r = c.Post("/v1/jobs", slow_request(0.0008), "application/json");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 202);
+    const std::string id = json::parse(r->body)["id"];
+    // Wait until it runs.
+    for (int i = 0; i < 500; ++i) {
+        auto st = c.Get(("/v1/jobs/" + id).c_str());
+        if (json::parse(st->body)["status"] == "running") {
+            EXPECT_EQ(st->get_header_value("Retry-After"), "1");
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    auto early = c.Get(("/v1/jobs/" + id + "/mesh").c_str());
+    ASSERT_TRUE(early);
+    EXPECT_EQ(early->status, 409);
+    const auto t0 = std::chrono::steady_clock::now();
+    auto del = c.Delete(("/v1/jobs/" + id).c_str());
+    ASSERT_TRUE(del);
+    EXPECT_TRUE(del->status == 200 || del->status == 202);
+    const json end = wait_for_job(c, id, 5);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(end["status"], "cancelled");
+    EXPECT_LT(secs, 1.0);
+    auto gone = c.Get(("/v1/jobs/" + id + "/mesh").c_str());
+    ASSERT_TRUE(gone);
+    EXPECT_EQ(gone->status, 410);
+}
+
+TEST(Http, FinishedJobsExpire) {
+    ServerProcess s({"--job-ttl-s", "0.5"});
+    auto c = client(s);
+    auto r = c.Post("/v1/jobs", naca_request(), "application/json");
+    const std::string id = json::parse(r->body)["id"];
+    ASSERT_EQ(wait_for_job(c, id)["status"], "succeeded");
+    std::this_thread::sleep_for(std::chrono::milliseconds(900));
+    auto later = c.Get(("/v1/jobs/" + id + "/mesh").c_str());
+    ASSERT_TRUE(later);
+    EXPECT_TRUE(later->status == 404 || later->status == 410) << later->status;
+}
+
+TEST(Http, QueueFullAnswers429WithRetryAfter) {
+    ServerProcess s({"--workers", "1", "--queue", "1"});
+    auto c = client(s);
+    std::vector<std::string> ids;
+    int refused = 0;
+    for (int i = 0; i < 4; ++i) {
+        auto r = c.Post("/v1/jobs", slow_request(0.001), "application/json");
+        ASSERT_TRUE(r);
+        if (r->status == 202) {
+            ids.push_back(json::parse(r->body)["id"]);
+        } else {
+            EXPECT_EQ(r->status, 429);
+            EXPECT_EQ(r->get_header_value("Retry-After"), "1");
+            EXPECT_EQ(r->get_header_value("Content-Type"), "application/problem+json");
+            ++refused;
+        }
+    }
+    EXPECT_EQ(ids.size(), 2u);  // one running, one waiting
+    EXPECT_EQ(refused, 2);
+    auto ready = c.Get("/readyz");
+    ASSERT_TRUE(ready);
+    EXPECT_EQ(ready->status, 503);
+    for (const auto& id : ids) c.Delete(("/v1/jobs/" + id).c_str());
+    for (const auto& id : ids) wait_for_job(c, id, 5);
+    auto again = c.Get("/readyz");
+    EXPECT_EQ(again->status, 200);
+}
+
+TEST(Http, SigtermDrainsAndExitsZero) {
+    ServerProcess s({"--workers", "1", "--drain-s", "30"});
+    auto c = client(s);
+    auto r = c.Post("/v1/jobs", slow_request(0.002), "application/json");
+    ASSERT_EQ(r->status, 202);
+    const std::string id = json::parse(r->body)["id"];
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    s.signal(SIGTERM);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    // Draining: not ready, no new jobs; the running one continues.
+    auto ready = c.Get("/readyz");
+    if (ready) {
+        EXPECT_EQ(ready->status, 503);
+    }
+    auto refused = c.Post("/v1/jobs", naca_request(), "application/json");
+    if (refused) {
+        EXPECT_EQ(refused->status, 503);
+    }
+    EXPECT_EQ(s.wait(std::chrono::seconds(60)), 0);
+    const std::string log = s.log();
+    EXPECT_NE(log.find("job " + id + " succeeded"), std::string::npos) << log;
+}
+
+TEST(Http, CatalogueOfBadRequestsLeavesTheServerHealthy) {
+    ServerProcess s({"--max-body-mb", "8"});
+    auto c = client(s);
+    // A good job running meanwhile must not be disturbed.
+    auto bg = c.Post("/v1/jobs", slow_request(0.004), "application/json");
+    ASSERT_EQ(bg->status, 202);
+    const std::string bg_id = json::parse(bg->body)["id"];
+
+    const auto cat = json::parse(read_file(MESHD_SOURCE_DIR "/tests/data/bad_requests.json"));
+    size_t n = 0;
+    for (const auto& cs : cat["cases"]) {
+        const std::string name = cs["name"];
+        const std::string body = cs.contains("raw") ? cs["raw"].get<std::string>() : cs["body"].dump();
+        auto r = c.Post("/v1/meshes", body, "application/json");
+        ASSERT_TRUE(r) << name;
+        EXPECT_EQ(r->status, cs["status"].get<int>()) << name << ": " << r->body;
+        EXPECT_EQ(r->get_header_value("Content-Type"), "application/problem+json") << name;
+        const json p = json::parse(r->body);
+        EXPECT_EQ(p.value("pointer", ""), cs["pointer"].get<std::string>()) << name;
+        ++n;
+    }
+    EXPECT_GE(n, 40u);
+    // HTTP-level refusals.
+    auto ct = c.Post("/v1/meshes", naca_request(), "text/plain");
+    ASSERT_TRUE(ct);
+    EXPECT_EQ(ct->status, 415);
+    auto xml = c.Post("/v1/jobs", "<request/>", "application/xml");
+    ASSERT_TRUE(xml);
+    EXPECT_EQ(xml->status, 415);
+    const std::string huge(100u << 20, ' ');
+    auto big = c.Post("/v1/meshes", huge, "application/json");
+    if (big) {  // the server may also close the connection early
+        EXPECT_EQ(big->status, 413);
+    }
+    // Still healthy, and the background job finished normally.
+    auto h = c.Get("/healthz");
+    ASSERT_TRUE(h);
+    EXPECT_EQ(h->status, 200);
+    EXPECT_EQ(wait_for_job(c, bg_id)["status"], "succeeded");
+    auto good = c.Post("/v1/meshes", naca_request(), "application/json");
+    ASSERT_TRUE(good);
+    EXPECT_EQ(good->status, 200);
+    EXPECT_EQ(s.log().find(" 500 "), std::string::npos);
+}
+
+TEST(Http, TimeoutFailsTheJobWithAProblem) {
+    ServerProcess s({"--job-timeout-s", "0.2"});
+    auto c = client(s);
+    auto r = c.Post("/v1/meshes", slow_request(0.0008), "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 422);
+    EXPECT_EQ(json::parse(r->body)["type"], "/v1/problems/timeout");
+}
