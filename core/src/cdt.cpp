@@ -95,7 +95,7 @@ void TriangleSoup::flip(TriangleId t, std::uint32_t i) {
 bool TriangleSoup::illegal(TriangleId t, std::uint32_t i) const {
     const Triangle& T = t_[t];
     const TriangleId u = T.n[i];
-    if (u == kNoTriangle || ((T.constrained >> i) & 1u)) return false;
+    if (u == kNoTriangle || edge_bit(T.constrained, i)) return false;
     const std::uint32_t q = t_[u].v[back_index(u, t)];
     return incircle_perturbed(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]], pts_[q], T.v[0], T.v[1], T.v[2], q) > 0;
 }
@@ -264,7 +264,7 @@ public:
             stack.pop_back();
             for (std::uint32_t i = 0; i < 3; ++i) {
                 const TriangleId u = tris_[t].n[i];
-                if (u == kNoTriangle || ((static_cast<std::uint32_t>(tris_[t].boundary) >> i) & 1u) != 0 || keep[u]) continue;
+                if (u == kNoTriangle || edge_bit(tris_[t].boundary, i) || keep[u]) continue;
                 keep[u] = 1;
                 stack.push_back(u);
             }
@@ -345,7 +345,7 @@ private:
             if (x == old_t) { x = new_t; return; }
     }
 
-    static std::uint32_t bit(std::uint8_t flags, std::uint32_t i) { return (flags >> i) & 1u; }
+    static std::uint32_t bit(std::uint8_t flags, std::uint32_t i) { return edge_bit(flags, i) ? 1u : 0u; }
 
     void split_triangle(TriangleId t, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
         const Triangle T = tris_[t];
@@ -412,7 +412,7 @@ private:
     void mark_constraint(std::uint32_t a, std::uint32_t b, bool loop) {
         const auto [t, k] = soup_->find_edge(a, b);
         MESHD_INTERNAL_CHECK(t != kNoTriangle, "constraint edge not found");
-        soup_->set_flag(t, prev3(k), true, loop || ((static_cast<std::uint32_t>(tris_[t].boundary) >> prev3(k)) & 1u) != 0);
+        soup_->set_flag(t, prev3(k), true, loop || edge_bit(tris_[t].boundary, prev3(k)));
         if (loop) loop_edges_.emplace_back(a, b);
     }
 

@@ -27,7 +27,7 @@ public:
     /// Index in u of the edge shared with t.
     std::uint32_t back_index(TriangleId u, TriangleId t) const;
 
-    bool constrained(TriangleId t, std::uint32_t i) const { return (t_[t].constrained >> i) & 1u; }
+    bool constrained(TriangleId t, std::uint32_t i) const { return edge_bit(t_[t].constrained, i); }
     void set_flag(TriangleId t, std::uint32_t i, bool constrained, bool boundary);
 
     /// Flips edge i of t (t and its neighbour must form a convex quad; the edge must not be

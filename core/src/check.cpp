@@ -91,7 +91,7 @@ std::vector<std::string> check_mesh(const Mesh& m, bool delaunay) {
             const Triangle& T = m.triangles[t];
             for (std::uint32_t i = 0; i < 3; ++i) {
                 const TriangleId u = T.n[i];
-                if (u == kNoTriangle || u < t || ((T.constrained >> i) & 1u)) continue;
+                if (u == kNoTriangle || u < t || edge_bit(T.constrained, i)) continue;
                 const Triangle& U = m.triangles[u];
                 std::uint32_t q = 0;
                 for (std::uint32_t j = 0; j < 3; ++j)

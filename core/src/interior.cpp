@@ -71,7 +71,7 @@ public:
             }
             if (exit < 0) return t;  // c is in t (closed)
             const auto i = static_cast<std::uint32_t>(exit);
-            if (((T.constrained >> i) & 1u) || T.n[i] == kNoTriangle) return kNoTriangle;
+            if (edge_bit(T.constrained, i) || T.n[i] == kNoTriangle) return kNoTriangle;
             t = T.n[i];
         }
         return kNoTriangle;  // a walk this long means a degenerate path: refuse the point

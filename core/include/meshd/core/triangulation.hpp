@@ -38,6 +38,9 @@ struct Triangle {
     std::uint8_t boundary = 0;     ///< bit i: edge i is a loop segment (holes stop at it)
 };
 
+/// Bit i of an edge flag byte.
+inline bool edge_bit(std::uint8_t flags, std::uint32_t i) { return ((static_cast<std::uint32_t>(flags) >> i) & 1u) != 0; }
+
 struct TriangulationStats {
     std::uint64_t flips = 0;
     std::uint64_t walk_steps = 0;
