@@ -31,6 +31,15 @@ MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions
     bopt.max_points = options.max_points;
     const Discretisation d = discretise_boundary(domain, rho, bopt, observer);
     if (rho.interpolates()) set_interpolation_sources(rho, d);
+    if (options.max_points) {
+        // Refuse before the interior work when the mesh would clearly be too large.
+        const double limit = static_cast<double>(options.max_points);
+        const double estimate = estimate_point_count(d, rho, limit);
+        if (estimate > limit)
+            throw GeometryError(GeometryErrorKind::TooManyPoints,
+                                "the mesh would have about " + std::to_string(static_cast<long long>(estimate)) +
+                                    " points or more, above the limit of " + std::to_string(options.max_points));
+    }
     r.timings.boundary_ms = ms_since(t0);
 
     // Interior.

@@ -211,3 +211,19 @@ TEST(Mesher, PointLimitRefusesBeforeTheWorkIsDone) {
     o.max_points = 10000;
     EXPECT_THROW(generate_mesh(dom, rho, o), GeometryError);
 }
+
+TEST(Mesher, PointEstimateIsCloseToTheCount) {
+    for (const Case& c : {naca("0012"), three_element(), plate_with_holes(), annulus()}) {
+        const Domain dom = build_domain(c.domain);
+        SizeField rho(c.density, dom);
+        const Discretisation d = discretise_boundary(dom, rho);
+        if (rho.interpolates()) set_interpolation_sources(rho, d);
+        const double est = estimate_point_count(d, rho);
+        SizeField rho2(c.density, dom);
+        const MeshResult r = generate_mesh(dom, rho2);
+        const double n = static_cast<double>(r.mesh.point_count());
+        EXPECT_GT(est, 0.85 * n) << c.name;
+        EXPECT_LT(est, 1.15 * n) << c.name;
+        std::printf("[ %s ] estimate %.0f, points %.0f\n", c.name.c_str(), est, n);
+    }
+}

@@ -9,6 +9,7 @@
 ///
 /// The server, the CLI and the tests all call generate_mesh().
 
+#include <cmath>
 #include <cstdint>
 
 #include "meshd/core/boundary.hpp"
@@ -56,6 +57,11 @@ struct MeshResult {
 /// other threads. Throws GeometryError, Cancelled or InternalError.
 MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions& options = {},
                          Observer* observer = nullptr);
+
+/// Expected number of points of the mesh (boundary plus interior), from the integral of
+/// rho^-2 over the domain; stops counting once past `limit`. Within about 10% on smooth
+/// densities. `rho` must be ready for interior queries.
+double estimate_point_count(const Discretisation& boundary, const SizeField& rho, double limit = HUGE_VAL);
 
 /// Laplacian smoothing of the interior points (section 5 of ALGORITHM.md): each sweep moves
 /// every interior point to the mean of its neighbours unless that inverts a triangle of its

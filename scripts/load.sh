@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Load run (a benchmark, not a test): a meshd server on a loopback port, wrk posting a small
+# mesh request (about 5,000 triangles) at 64 connections for 30 s. Prints requests per
+# second, p50/p99 latency and the count of 5xx answers. Usage: scripts/load.sh [seconds]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+secs="${1:-30}"
+command -v wrk >/dev/null || { sudo=""; [ "$(id -u)" -ne 0 ] && sudo=sudo; $sudo apt-get install -y -qq wrk; }
+scripts/build.sh release >/dev/null
+port=18181
+# Room for every connection in the queue: the load measures throughput, not refusals.
+build/server/meshd --port "$port" --workers "$(nproc)" --queue 64 --log-level warn &
+pid=$!
+trap 'kill $pid 2>/dev/null || true' EXIT
+for _ in $(seq 50); do curl -fs "http://127.0.0.1:$port/healthz" >/dev/null && break; sleep 0.1; done
+curl -fs -X POST -H 'Content-Type: application/json' --data-binary @bench/load/small_square.json \
+  "http://127.0.0.1:$port/v1/meshes" | python3 -c 'import json,sys; m=json.load(sys.stdin)["metrics"]; print("mesh:", m["points"], "points,", m["triangles"], "triangles")'
+MESHD_LOAD_REQUEST=bench/load/small_square.json wrk -t 4 -c 64 -d "${secs}s" --latency -s bench/load/post.lua \
+  "http://127.0.0.1:$port/v1/meshes"
+curl -fs "http://127.0.0.1:$port/metrics" | grep -E '^meshd_http_requests_total\{route="/v1/meshes"'
+kill -TERM $pid
+wait $pid
+echo "server exited $?"
