@@ -34,7 +34,7 @@ MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions
     if (options.max_points) {
         // Refuse before the interior work when the mesh would clearly be too large.
         const double limit = static_cast<double>(options.max_points);
-        const double estimate = estimate_point_count(d, rho, limit);
+        const double estimate = estimate_point_count(d, rho, limit, observer);
         if (estimate > limit)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
                                 "the mesh would have about " + std::to_string(static_cast<long long>(estimate)) +

@@ -61,7 +61,8 @@ MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions
 /// Expected number of points of the mesh (boundary plus interior), from the integral of
 /// rho^-2 over the domain; stops counting once past `limit`. Within about 10% on smooth
 /// densities. `rho` must be ready for interior queries.
-double estimate_point_count(const Discretisation& boundary, const SizeField& rho, double limit = HUGE_VAL);
+double estimate_point_count(const Discretisation& boundary, const SizeField& rho, double limit = HUGE_VAL,
+                            Observer* observer = nullptr);
 
 /// Laplacian smoothing of the interior points (section 5 of ALGORITHM.md): each sweep moves
 /// every interior point to the mean of its neighbours unless that inverts a triangle of its
