@@ -189,14 +189,25 @@ double SizeField::eval(const Source& s, Vec2 p) const {
     return std::fmin(std::fmax(v, min_), max_);
 }
 
-double SizeField::on_curve(CurveId c, Vec2 p) const { return eval(sources_[*curve_source_[c]], p); }
+double SizeField::on_curve(CurveId c, Vec2 p) const {
+    const double h = eval(sources_[*curve_source_[c]], p);
+    return graded_ ? std::fmax(std::fmin(h, (*graded_)(p)), min_) : h;
+}
 
 double SizeField::interior(Vec2 p) const {
+    double h;
     if (interpolate_) {
         MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
-        return std::fmin(std::fmax((*idw_)(p), min_), max_);
+        h = std::fmin(std::fmax((*idw_)(p), min_), max_);
+    } else {
+        h = eval(sources_[*interior_source_], p);
     }
-    return eval(sources_[*interior_source_], p);
+    return graded_ ? std::fmax(std::fmin(h, (*graded_)(p)), min_) : h;
+}
+
+void SizeField::set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes) {
+    MESHD_INTERNAL_CHECK(gradation_.has_value(), "gradation sources without a gradation");
+    graded_ = std::make_unique<GradationField>(std::move(points), std::move(sizes), *gradation_);
 }
 
 void SizeField::set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths) {

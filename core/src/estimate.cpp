@@ -15,7 +15,12 @@
 
 namespace meshd::core {
 
-double estimate_point_count(const Discretisation& d, const SizeField& rho, double limit, Observer* observer) {
+namespace {
+
+// Visits samples (place, rho) of the domain at about the local size: the leaves of the
+// bisection described above. f returns false to stop.
+template <class F>
+void for_each_sample(const Discretisation& d, const SizeField& rho, Observer* observer, F&& f) {
     std::vector<Vec2> pts;
     pts.reserve(d.size());
     for (VertexId v = 0; v < d.size(); ++v) pts.push_back(d.point(v));
@@ -25,8 +30,6 @@ double estimate_point_count(const Discretisation& d, const SizeField& rho, doubl
     const TriangulationResult tr = triangulate_delaunay(pts, cons);
     // Points per rho^2 of area: 2 / sqrt(3) for a perfect equilateral mesh; the advancing front
     // with its default proximity places about 14% fewer (measured on the mesher test cases).
-    const double per_area = 0.86 * 2.0 / std::sqrt(3.0);
-    double total = static_cast<double>(d.size());
     std::uint64_t visited = 0;
     struct Tri { Vec2 a, b, c; int depth; };
     std::vector<Tri> stack;
@@ -50,11 +53,42 @@ double estimate_point_count(const Discretisation& d, const SizeField& rho, doubl
                 stack.push_back({m, b, c, x.depth + 1});
                 continue;
             }
-            total += per_area * area / (r * r);
-            if (total > limit) return total;
+            if (!f(g, r, area)) return;
         }
     }
+}
+
+}  // namespace
+
+double estimate_point_count(const Discretisation& d, const SizeField& rho, double limit, Observer* observer) {
+    const double per_area = 0.86 * 2.0 / std::sqrt(3.0);
+    double total = static_cast<double>(d.size());
+    for_each_sample(d, rho, observer, [&](Vec2, double r, double area) {
+        total += per_area * area / (r * r);
+        return total <= limit;
+    });
     return total;
+}
+
+void set_gradation_sources(SizeField& rho, const Discretisation& d, Observer* observer) {
+    std::vector<Vec2> pts;
+    std::vector<double> sizes;
+    // The boundary points with their curve densities (the smallest of the curves at an end).
+    std::vector<double> end_rho(d.size(), HUGE_VAL);
+    for (const auto& s : d.segments)
+        for (VertexId v : {s.a, s.b})
+            if (d.curve[v] == kNoCurve) end_rho[v] = std::fmin(end_rho[v], rho.on_curve(s.curve, d.point(v)));
+    for (VertexId v = 0; v < d.size(); ++v) {
+        pts.push_back(d.point(v));
+        sizes.push_back(d.curve[v] != kNoCurve ? rho.on_curve(d.curve[v], d.point(v)) : end_rho[v]);
+    }
+    // The interior at about its own size.
+    for_each_sample(d, rho, observer, [&](Vec2 g, double r, double) {
+        pts.push_back(g);
+        sizes.push_back(r);
+        return true;
+    });
+    rho.set_gradation_sources(std::move(pts), std::move(sizes));
 }
 
 }  // namespace meshd::core

@@ -29,8 +29,15 @@ MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions
     BoundaryOptions bopt;
     bopt.spline_spacing = options.spline_spacing;
     bopt.max_points = options.max_points;
-    const Discretisation d = discretise_boundary(domain, rho, bopt, observer);
+    Discretisation d = discretise_boundary(domain, rho, bopt, observer);
     if (rho.interpolates()) set_interpolation_sources(rho, d);
+    if (rho.gradation()) {
+        // Limit the growth of the field sampled from the first boundary, then place the
+        // boundary points again along the limited field (and interpolate from those).
+        set_gradation_sources(rho, d, observer);
+        d = discretise_boundary(domain, rho, bopt, observer);
+        if (rho.interpolates()) set_interpolation_sources(rho, d);
+    }
     if (options.max_points) {
         // Refuse before the interior work when the mesh would clearly be too large.
         const double limit = static_cast<double>(options.max_points);

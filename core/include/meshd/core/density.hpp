@@ -13,6 +13,7 @@
 
 #include "meshd/core/domain.hpp"
 #include "meshd/core/errors.hpp"
+#include "meshd/core/gradation.hpp"
 #include "meshd/core/idw.hpp"
 
 namespace meshd::core {
@@ -77,6 +78,11 @@ public:
     /// Sources of eq. 6.1: the start A_i of each boundary segment and its length rho_i.
     void set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths);
 
+    /// Limits the field (on curves and inside) to the gradation envelope over these samples
+    /// (gradation.hpp).
+    void set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes);
+    bool graded() const { return graded_ != nullptr; }
+
     double min_size() const { return min_; }
     double max_size() const { return max_; }
     std::optional<double> gradation() const { return gradation_; }
@@ -94,6 +100,7 @@ private:
     std::optional<size_t> size_source_, interior_source_;
     bool interpolate_ = false;
     std::unique_ptr<InverseDistanceField> idw_;
+    std::unique_ptr<GradationField> graded_;
     double min_ = 0.0, max_ = 0.0;
     std::optional<double> gradation_;
 };

@@ -64,6 +64,11 @@ MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions
 double estimate_point_count(const Discretisation& boundary, const SizeField& rho, double limit = HUGE_VAL,
                             Observer* observer = nullptr);
 
+/// Limits the growth of rho inside the domain to its gradation (gradation.hpp): samples the
+/// boundary and the interior, then sets them as the gradation sources of rho.
+void set_gradation_sources(SizeField& rho, const Discretisation& boundary,
+                           Observer* observer = nullptr);
+
 /// Laplacian smoothing of the interior points (section 5 of ALGORITHM.md): each sweep moves
 /// every interior point to the mean of its neighbours unless that inverts a triangle of its
 /// star or lowers the star's worst radius ratio, then restores the Delaunay property by flips

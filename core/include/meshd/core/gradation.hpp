@@ -1,0 +1,41 @@
+#pragma once
+/// Gradation (API.md, density.gradation): sizes may grow by at most the ratio g from one
+/// element to the next, i.e. |grad h| <= g - 1. The corrected field is the lower envelope
+///
+///   h'(x) = min( h(x), min_i ( h_i + (g - 1) |x - s_i| ) )
+///
+/// of cones over sample points s_i of the domain with their sizes h_i (the boundary points
+/// and samples of the interior at about the local size): the largest field below h that grows
+/// no faster than g - 1 between samples. Queries use a k-d tree whose nodes keep their
+/// smallest h_i, pruned by h_min + (g - 1) * distance to the node's box: O(log n) on graded
+/// fields.
+
+#include <cstdint>
+#include <vector>
+
+#include "meshd/core/vec2.hpp"
+
+namespace meshd::core {
+
+class GradationField {
+public:
+    GradationField(std::vector<Vec2> sources, std::vector<double> sizes, double ratio);
+    /// min_i (h_i + (g - 1) |x - s_i|).
+    double operator()(Vec2 x) const;
+    size_t size() const { return pts_.size(); }
+
+private:
+    struct Node {
+        Box box;
+        double hmin;
+        std::uint32_t begin, end, left, right;
+    };
+    std::uint32_t build(std::uint32_t begin, std::uint32_t end);
+
+    std::vector<Vec2> pts_;
+    std::vector<double> h_;
+    std::vector<Node> nodes_;
+    double slope_;
+};
+
+}  // namespace meshd::core
