@@ -1,0 +1,71 @@
+// meshd on the benchmark case of the Core II issue, one size per process (so that the peak
+// memory is this case's): NACA 0012 (chord 1, leading edge at the origin) in a circular far
+// field of radius 20 about (0.5, 0), the paper's Fig. 10 density times s.
+//   meshd_naca_bench S [delaunay|advancing-front]    -> one JSON line
+//   meshd_naca_bench --random N                       -> bare triangulation of N random points
+// Used by bench/compare/run.sh, which puts gmsh and CGAL beside it.
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+
+#include "meshd/core/mesher.hpp"
+
+using namespace meshd::core;
+
+namespace {
+
+double peak_mb() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_maxrss) / 1024.0;
+}
+
+int random_points(size_t n) {
+    std::mt19937_64 rng(12345);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<Vec2> pts{{-0.01, -0.01}, {1.01, -0.01}, {1.01, 1.01}, {-0.01, 1.01}};
+    for (size_t i = 0; i < n; ++i) pts.push_back({u(rng), u(rng)});
+    const std::vector<Constraint> cons{{0, 1, true}, {1, 2, true}, {2, 3, true}, {3, 0, true}};
+    const auto t0 = std::chrono::steady_clock::now();
+    const TriangulationResult r = triangulate_delaunay(pts, cons);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("{\"tool\":\"meshd\",\"case\":\"random\",\"points\":%zu,\"triangles\":%zu,\"ms\":%.1f,\"peak_mb\":%.1f}\n",
+                n, r.triangles.size(), ms, peak_mb());
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc >= 3 && std::strcmp(argv[1], "--random") == 0) return random_points(std::strtoull(argv[2], nullptr, 10));
+    const double s = argc > 1 ? std::atof(argv[1]) : 1.0;
+    DomainSpec spec;
+    spec.points = {{"F", {20.5, 0.0}}};
+    NacaSpec naca;
+    naca.code = "0012";
+    spec.curves.push_back({"wing", naca, std::nullopt, std::nullopt, std::string("wall")});
+    spec.curves.push_back({"farfield", ArcShape{{0.5, 0.0}, ArcDirection::Ccw}, "F", "F", std::string("farfield")});
+    spec.loops = {{{"farfield", false}}, {{"wing", false}}};
+    const Domain dom = build_domain(spec);
+    DensitySpec ds;
+    ds.size = "(x < 0.5 ? 0.1*sqrt(x^2+y^2)+0.007 : 0.1*sqrt((x-1.008930411365)^2+y^2)+0.006)*" + std::to_string(s);
+    SizeField rho(ds, dom);
+    MeshOptions opt;
+    if (argc > 2 && std::strcmp(argv[2], "advancing-front") == 0) opt.triangulator = Triangulator::AdvancingFront;
+    const MeshResult r = generate_mesh(dom, rho, opt);
+    const auto& q = r.quality;
+    const auto& t = r.timings;
+    std::printf("{\"tool\":\"meshd\",\"case\":\"naca\",\"s\":%g,\"triangulator\":\"%s\",\"points\":%zu,\"triangles\":%zu,"
+                "\"boundary_ms\":%.1f,\"interior_ms\":%.1f,\"triangulation_ms\":%.1f,\"smoothing_ms\":%.1f,\"ms\":%.1f,"
+                "\"peak_mb\":%.1f,\"quality_mean\":%.4f,\"quality_min\":%.4f,\"angle_min\":%.2f,\"within_sqrt2\":%.4f}\n",
+                s, opt.triangulator == Triangulator::Delaunay ? "delaunay" : "advancing-front", q.points, q.triangles,
+                t.boundary_ms, t.interior_ms, t.triangulation_ms, t.smoothing_ms, t.total_ms, peak_mb(), q.quality_mean,
+                q.quality_min, q.angle_min, q.size_ratio_within_sqrt2);
+    return 0;
+}
