@@ -64,6 +64,21 @@ struct Line {
     int number = 0;  // 1-based line number
 };
 
+// The leading edge: the point farthest from the trailing-edge midpoint (the ends' mean).
+size_t leading_edge_index(const std::vector<Vec2>& pts, double& chord) {
+    const Vec2 te = 0.5 * (pts.front() + pts.back());
+    size_t le = 0;
+    chord = -1.0;
+    for (size_t k = 0; k < pts.size(); ++k) {
+        const double d = distance(te, pts[k]);
+        if (d > chord) {
+            chord = d;
+            le = k;
+        }
+    }
+    return le;
+}
+
 }  // namespace
 
 AirfoilPoints parse_airfoil_dat(std::string_view text) {
@@ -150,12 +165,8 @@ AirfoilPoints parse_airfoil_dat(std::string_view text) {
     // Structure: the leading edge (the point farthest from the trailing-edge midpoint) lies
     // strictly between the ends, and the trailing-edge gap is small against the chord.
     const Vec2 te = 0.5 * (pts.front() + pts.back());
-    size_t le = 0;
-    double far = -1.0;
-    for (size_t k = 0; k < pts.size(); ++k) {
-        const double d = distance(te, pts[k]);
-        if (d > far) { far = d; le = k; }
-    }
+    double far = 0.0;
+    const size_t le = leading_edge_index(pts, far);
     if (le == 0 || le + 1 == pts.size())
         throw bad_airfoil("the points do not go from the trailing edge round the leading edge and back");
     double gap = distance(pts.front(), pts.back());
@@ -203,18 +214,13 @@ std::unique_ptr<Curve> make_airfoil(const AirfoilSpec& spec) {
 
     // Chord frame: leading edge at the origin, trailing-edge midpoint at (1, 0).
     const Vec2 te = 0.5 * (pts.front() + pts.back());
-    size_t le = 0;
-    double far = -1.0;
-    for (size_t k = 0; k < pts.size(); ++k) {
-        const double d = distance(te, pts[k]);
-        if (d > far) { far = d; le = k; }
-    }
+    double c = 0.0;  // the file's chord
+    const size_t le = leading_edge_index(pts, c);
     const Vec2 origin = pts[le];
-    const Vec2 ex = (te - origin) / norm(te - origin);
+    const Vec2 ex = (te - origin) / c;
     const Vec2 ey = perp(ex);
     for (Vec2& p : pts) {
         const Vec2 d = p - origin;
-        const double c = norm(te - origin);
         p = {dot(d, ex) / c, dot(d, ey) / c};
     }
     const Vec2 gap = pts.front() - pts.back();

@@ -160,6 +160,31 @@ Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
     return std::move(b).finish();
 }
 
+std::vector<Vec2> points_of(const Discretisation& d) {
+    std::vector<Vec2> pts;
+    pts.reserve(d.size());
+    for (VertexId v = 0; v < d.size(); ++v) pts.push_back(d.point(v));
+    return pts;
+}
+
+std::vector<Constraint> constraints_of(const Discretisation& d) {
+    std::vector<Constraint> cons;
+    cons.reserve(d.segments.size());
+    for (size_t i = 0; i < d.segments.size(); ++i)
+        cons.push_back({d.segments[i].a, d.segments[i].b, i < d.loop_segment_count});
+    return cons;
+}
+
+std::vector<double> point_sizes(const Discretisation& d, const SizeField& rho) {
+    std::vector<double> sizes(d.size(), HUGE_VAL);
+    for (const auto& s : d.segments)
+        for (VertexId v : {s.a, s.b})
+            if (d.curve[v] == kNoCurve) sizes[v] = std::fmin(sizes[v], rho.on_curve(s.curve, d.point(v)));
+    for (VertexId v = 0; v < d.size(); ++v)
+        if (d.curve[v] != kNoCurve) sizes[v] = rho.on_curve(d.curve[v], d.point(v));
+    return sizes;
+}
+
 void set_interpolation_sources(SizeField& rho, const Discretisation& d) {
     std::vector<Vec2> starts;
     std::vector<double> lengths;

@@ -99,15 +99,8 @@ public:
         // Points: the boundary's, with their curve densities.
         const size_t nb = d.size();
         pts_.reserve(nb * 4);
-        // A curve end takes the smallest density of the curves meeting there.
-        std::vector<double> end_rho(nb, HUGE_VAL);
-        for (const auto& s : d.segments)
-            for (VertexId v : {s.a, s.b})
-                if (d.curve[v] == kNoCurve) end_rho[v] = std::fmin(end_rho[v], rho.on_curve(s.curve, d.point(v)));
-        for (VertexId v = 0; v < nb; ++v) {
-            const Vec2 p = d.point(v);
-            add_point(p, d.curve[v] != kNoCurve ? rho.on_curve(d.curve[v], p) : end_rho[v], kNoTriangle);
-        }
+        const std::vector<double> sizes = point_sizes(d, rho);
+        for (VertexId v = 0; v < nb; ++v) add_point(d.point(v), sizes[v], kNoTriangle);
         boundary_count_ = nb;
         for (size_t i = 0; i < d.segments.size(); ++i) {
             const auto& s = d.segments[i];
@@ -135,13 +128,8 @@ public:
 
 private:
     static DomainWalker make_walker(const Discretisation& d) {
-        std::vector<Vec2> pts;
-        pts.reserve(d.size());
-        for (VertexId v = 0; v < d.size(); ++v) pts.push_back(d.point(v));
-        std::vector<Constraint> cons;
-        for (size_t i = 0; i < d.segments.size(); ++i)
-            cons.push_back({d.segments[i].a, d.segments[i].b, i < d.loop_segment_count});
-        TriangulationResult r = triangulate_delaunay(pts, cons);
+        std::vector<Vec2> pts = points_of(d);
+        TriangulationResult r = triangulate_delaunay(pts, constraints_of(d));
         return DomainWalker(std::move(pts), std::move(r.triangles));
     }
 

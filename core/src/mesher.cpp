@@ -58,14 +58,9 @@ MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions
 
     // Triangulation.
     t0 = Clock::now();
-    std::vector<Vec2> pts;
-    pts.reserve(d.size() + inner.size());
-    for (VertexId v = 0; v < d.size(); ++v) pts.push_back(d.point(v));
+    std::vector<Vec2> pts = points_of(d);
     pts.insert(pts.end(), inner.begin(), inner.end());
-    std::vector<Constraint> cons;
-    cons.reserve(d.segments.size());
-    for (size_t i = 0; i < d.segments.size(); ++i)
-        cons.push_back({d.segments[i].a, d.segments[i].b, i < d.loop_segment_count});
+    const std::vector<Constraint> cons = constraints_of(d);
     TriangulationResult tr = options.triangulator == Triangulator::Delaunay
                                  ? triangulate_delaunay(pts, cons, observer)
                                  : triangulate_advancing_front(pts, cons, observer);

@@ -58,17 +58,7 @@ JobManager::JobManager(const Config& config, Metrics& metrics) : config_(config)
     for (int i = 0; i < config.workers; ++i) workers_.emplace_back([this] { work(); });
 }
 
-JobManager::~JobManager() {
-    {
-        std::lock_guard<std::mutex> lock(m_);
-        stop_ = true;
-        for (auto& j : queue_) j->cancel = true;
-        for (auto& [id, j] : jobs_) j->cancel = true;
-    }
-    cv_.notify_all();
-    for (auto& t : workers_)
-        if (t.joinable()) t.join();
-}
+JobManager::~JobManager() { drain(std::chrono::duration<double>(0)); }
 
 std::string JobManager::new_id() {
     // 128 bits from the system's entropy source: ids cannot be guessed.
@@ -297,7 +287,7 @@ void JobManager::drain(std::chrono::duration<double> grace) {
     cv_.notify_all();
     for (auto& t : workers_)
         if (t.joinable()) t.join();
-    workers_.clear();
+    workers_.clear();  // a second drain (the destructor after SIGTERM) finds nothing to join
 }
 
 }  // namespace meshd::server

@@ -219,6 +219,17 @@ void Service::install() {
         send_problem(res, problem(500, "internal", "Internal error", "meshd failed on this request (a bug): " + what));
     });
 
+    // The request of a POST, parsed, or the problem sent.
+    auto parse = [](const httplib::Request& req, httplib::Response& res) -> std::optional<api::MeshRequest> {
+        if (!json_body(req, res)) return std::nullopt;
+        try {
+            return api::parse_request(req.body);
+        } catch (const api::RequestError& e) {
+            send_problem(res, e.problem());
+            return std::nullopt;
+        }
+    };
+
     auto refuse_busy = [this](httplib::Response& res) {
         if (jobs_->draining()) {
             res.set_header("Retry-After", "5");
@@ -231,17 +242,12 @@ void Service::install() {
 
     // POST /v1/meshes: mesh synchronously (through the job queue, so the pool bounds the work).
     add("post", "/v1/meshes");
-    s.Post("/v1/meshes", [this, refuse_busy](const httplib::Request& req, httplib::Response& res) {
+    s.Post("/v1/meshes", [this, parse, refuse_busy](const httplib::Request& req, httplib::Response& res) {
         const auto f = format_of(req, res);
-        if (!f || !json_body(req, res)) return;
-        api::MeshRequest mr;
-        try {
-            mr = api::parse_request(req.body);
-        } catch (const api::RequestError& e) {
-            send_problem(res, e.problem());
-            return;
-        }
-        auto job = jobs_->submit(std::move(mr));
+        if (!f) return;
+        auto mr = parse(req, res);
+        if (!mr) return;
+        auto job = jobs_->submit(std::move(*mr));
         if (!job) return refuse_busy(res);
         std::unique_lock<std::mutex> lock(job->m);
         job->done_cv.wait(lock, [&] { return job->finished_locked(); });
@@ -258,16 +264,10 @@ void Service::install() {
 
     // POST /v1/jobs: queue.
     add("post", "/v1/jobs");
-    s.Post("/v1/jobs", [this, refuse_busy](const httplib::Request& req, httplib::Response& res) {
-        if (!json_body(req, res)) return;
-        api::MeshRequest mr;
-        try {
-            mr = api::parse_request(req.body);
-        } catch (const api::RequestError& e) {
-            send_problem(res, e.problem());
-            return;
-        }
-        auto job = jobs_->submit(std::move(mr));
+    s.Post("/v1/jobs", [this, parse, refuse_busy](const httplib::Request& req, httplib::Response& res) {
+        auto mr = parse(req, res);
+        if (!mr) return;
+        auto job = jobs_->submit(std::move(*mr));
         if (!job) return refuse_busy(res);
         res.status = 202;
         res.set_header("Location", "/v1/jobs/" + job->id);

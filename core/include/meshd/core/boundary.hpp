@@ -15,6 +15,7 @@
 #include "meshd/core/density.hpp"
 #include "meshd/core/domain.hpp"
 #include "meshd/core/observer.hpp"
+#include "meshd/core/triangulation.hpp"
 
 namespace meshd::core {
 
@@ -58,6 +59,15 @@ struct Discretisation {
 Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
                                    const BoundaryOptions& options = {},
                                    Observer* observer = nullptr);
+
+/// The discretisation as a triangulator's input: its points, and its segments as constraints
+/// (loop segments marked as loops).
+std::vector<Vec2> points_of(const Discretisation& d);
+std::vector<Constraint> constraints_of(const Discretisation& d);
+
+/// rho at each point of the discretisation: its curve's density, or at a curve end the
+/// smallest density of the curves meeting there.
+std::vector<double> point_sizes(const Discretisation& d, const SizeField& rho);
 
 /// Sets the sources of eq. 6.1 from the discretisation: every segment's start and length.
 void set_interpolation_sources(SizeField& rho, const Discretisation& d);
