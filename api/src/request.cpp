@@ -265,6 +265,7 @@ void options(const json& o, MeshRequest& r) {
         const double a = number(o["min_angle_deg"], ptr + "/min_angle_deg");
         if (a < 0.0 || a > 34.0) fail(ptr + "/min_angle_deg", "min_angle_deg must be between 0 and 34");
         r.min_angle_deg = a;
+        r.options.min_angle_deg = a;
     }
 }
 
@@ -311,10 +312,6 @@ MeshRequest parse_request(std::string_view body) {
 }
 
 core::MeshResult run_request(const MeshRequest& request, core::Observer* observer) {
-    if (request.min_angle_deg > 0.0)
-        throw RequestError(Problem{422, "/v1/problems/not-implemented", "Not implemented",
-                                   "min_angle_deg > 0 (quality refinement) is not implemented yet",
-                                   "/options/min_angle_deg"});
     const core::Domain domain = core::build_domain(request.geometry);
     core::SizeField rho(request.density, domain);
     return core::generate_mesh(domain, rho, request.options, observer);

@@ -151,6 +151,105 @@ void TriangleSoup::rebuild_vertex_index() {
         for (auto v : t_[t].v) vtri_[v] = t;
 }
 
+namespace {
+std::uint32_t bit(std::uint8_t flags, std::uint32_t i) { return edge_bit(flags, i) ? 1u : 0u; }
+}  // namespace
+
+TriangleId TriangleSoup::new_triangle() {
+    t_.push_back({});
+    return static_cast<TriangleId>(t_.size() - 1);
+}
+
+
+void TriangleSoup::relink(TriangleId nb, TriangleId old_t, TriangleId new_t) {
+    if (nb == kNoTriangle) return;
+    Triangle& N = t_[nb];
+    for (auto& x : N.n)
+        if (x == old_t) { x = new_t; return; }
+}
+
+
+void TriangleSoup::split_triangle(TriangleId t, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
+    const Triangle T = t_[t];
+    const std::uint32_t a = T.v[0], b = T.v[1], c = T.v[2];
+    const TriangleId t_ab = t, t_bc = new_triangle(), t_ca = new_triangle();
+    // (a, b, p): opp a (b,p) -> t_bc; opp b (p,a) -> t_ca; opp p (a,b) -> T.n[2]
+    t_[t_ab] = {{a, b, p}, {t_bc, t_ca, T.n[2]}, static_cast<std::uint8_t>(bit(T.constrained, 2) << 2),
+                   static_cast<std::uint8_t>(bit(T.boundary, 2) << 2)};
+    // (b, c, p): opp b (c,p) -> t_ca; opp c (p,b) -> t_ab; opp p (b,c) -> T.n[0]
+    t_[t_bc] = {{b, c, p}, {t_ca, t_ab, T.n[0]}, static_cast<std::uint8_t>(bit(T.constrained, 0) << 2),
+                   static_cast<std::uint8_t>(bit(T.boundary, 0) << 2)};
+    // (c, a, p): opp c (a,p) -> t_ab; opp a (p,c) -> t_bc; opp p (c,a) -> T.n[1]
+    t_[t_ca] = {{c, a, p}, {t_ab, t_bc, T.n[1]}, static_cast<std::uint8_t>(bit(T.constrained, 1) << 2),
+                   static_cast<std::uint8_t>(bit(T.boundary, 1) << 2)};
+    relink(T.n[0], t, t_bc);
+    relink(T.n[1], t, t_ca);
+    touch(t_ab);
+    touch(t_bc);
+    touch(t_ca);
+    // Rotate each so that p is at index 0 for legalize's convention? legalize works with
+    // any (t, i): the edge opposite p is index 2 here.
+    queue.emplace_back(t_ab, 2);
+    queue.emplace_back(t_bc, 2);
+    queue.emplace_back(t_ca, 2);
+}
+
+void TriangleSoup::split_edge(TriangleId t, std::uint32_t i, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
+    const Triangle T = t_[t];
+    const std::uint32_t a = T.v[i], b = T.v[next3(i)], c = T.v[prev3(i)];
+    const TriangleId u = T.n[i];
+    if (u == kNoTriangle) {
+        // An edge on the boundary of the mesh: only t splits.
+        const std::uint32_t e_cons = bit(T.constrained, i), e_bnd = bit(T.boundary, i);
+        const TriangleId n_ab = T.n[prev3(i)], n_ca = T.n[next3(i)];
+        const std::uint32_t c_ab = bit(T.constrained, prev3(i)), b_ab = bit(T.boundary, prev3(i));
+        const std::uint32_t c_ca = bit(T.constrained, next3(i)), b_ca = bit(T.boundary, next3(i));
+        const TriangleId t1 = t, t2 = new_triangle();
+        auto flags = [](std::uint32_t f0, std::uint32_t f1, std::uint32_t f2) {
+            return static_cast<std::uint8_t>(f0 | (f1 << 1) | (f2 << 2));
+        };
+        t_[t1] = {{a, b, p}, {kNoTriangle, t2, n_ab}, flags(e_cons, 0, c_ab), flags(e_bnd, 0, b_ab)};
+        t_[t2] = {{a, p, c}, {kNoTriangle, n_ca, t1}, flags(e_cons, c_ca, 0), flags(e_bnd, b_ca, 0)};
+        relink(n_ca, t, t2);
+        touch(t1);
+        touch(t2);
+        queue.emplace_back(t1, 2);
+        queue.emplace_back(t2, 1);
+        return;
+    }
+    const Triangle U = t_[u];
+    const std::uint32_t j = back_index(u, t);
+    const std::uint32_t d = U.v[j];
+    const std::uint32_t e_cons = bit(T.constrained, i), e_bnd = bit(T.boundary, i);
+    const TriangleId n_ab = T.n[prev3(i)], n_ca = T.n[next3(i)];
+    const std::uint32_t c_ab = bit(T.constrained, prev3(i)), b_ab = bit(T.boundary, prev3(i));
+    const std::uint32_t c_ca = bit(T.constrained, next3(i)), b_ca = bit(T.boundary, next3(i));
+    // In u = (d, c, b): across (d, c) is opposite b = U.n[prev3(j)], across (b, d) opposite c = U.n[next3(j)].
+    const TriangleId n_dc = U.n[prev3(j)], n_bd = U.n[next3(j)];
+    const std::uint32_t c_dc = bit(U.constrained, prev3(j)), b_dc = bit(U.boundary, prev3(j));
+    const std::uint32_t c_bd = bit(U.constrained, next3(j)), b_bd = bit(U.boundary, next3(j));
+    const TriangleId t1 = t, t2 = new_triangle(), t3 = u, t4 = new_triangle();
+    auto flags = [](std::uint32_t f0, std::uint32_t f1, std::uint32_t f2) {
+        return static_cast<std::uint8_t>(f0 | (f1 << 1) | (f2 << 2));
+    };
+    // t1 = (a, b, p): opp a (b,p) -> t4; opp b (p,a) -> t2; opp p (a,b) -> n_ab
+    t_[t1] = {{a, b, p}, {t4, t2, n_ab}, flags(e_cons, 0, c_ab), flags(e_bnd, 0, b_ab)};
+    // t2 = (a, p, c): opp a (p,c) -> t3; opp p (c,a) -> n_ca; opp c (a,p) -> t1
+    t_[t2] = {{a, p, c}, {t3, n_ca, t1}, flags(e_cons, c_ca, 0), flags(e_bnd, b_ca, 0)};
+    // t3 = (d, c, p): opp d (c,p) -> t2; opp c (p,d) -> t4; opp p (d,c) -> n_dc
+    t_[t3] = {{d, c, p}, {t2, t4, n_dc}, flags(e_cons, 0, c_dc), flags(e_bnd, 0, b_dc)};
+    // t4 = (d, p, b): opp d (p,b) -> t1; opp p (b,d) -> n_bd; opp b (d,p) -> t3
+    t_[t4] = {{d, p, b}, {t1, n_bd, t3}, flags(e_cons, c_bd, 0), flags(e_bnd, b_bd, 0)};
+    relink(n_ca, t, t2);
+    relink(n_bd, u, t4);
+    for (TriangleId x : {t1, t2, t3, t4}) touch(x);
+    queue.emplace_back(t1, 2);
+    queue.emplace_back(t2, 1);
+    queue.emplace_back(t3, 2);
+    queue.emplace_back(t4, 1);
+}
+
+
 }  // namespace detail
 
 namespace {
@@ -332,86 +431,10 @@ private:
         }
         std::vector<std::pair<TriangleId, std::uint32_t>>& queue = queue_;
         queue.clear();
-        if (on_edge < 0) split_triangle(t, v, queue);
-        else split_edge(t, static_cast<std::uint32_t>(on_edge), v, queue);
+        if (on_edge < 0) soup_->split_triangle(t, v, queue);
+        else soup_->split_edge(t, static_cast<std::uint32_t>(on_edge), v, queue);
         stats_.flips += soup_->legalize(queue);
         return soup_->vertex_triangle(v);
-    }
-
-    TriangleId new_triangle() {
-        tris_.push_back({});
-        return static_cast<TriangleId>(tris_.size() - 1);
-    }
-
-    void relink(TriangleId nb, TriangleId old_t, TriangleId new_t) {
-        if (nb == kNoTriangle) return;
-        Triangle& N = tris_[nb];
-        for (auto& x : N.n)
-            if (x == old_t) { x = new_t; return; }
-    }
-
-    static std::uint32_t bit(std::uint8_t flags, std::uint32_t i) { return edge_bit(flags, i) ? 1u : 0u; }
-
-    void split_triangle(TriangleId t, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
-        const Triangle T = tris_[t];
-        const std::uint32_t a = T.v[0], b = T.v[1], c = T.v[2];
-        const TriangleId t_ab = t, t_bc = new_triangle(), t_ca = new_triangle();
-        // (a, b, p): opp a (b,p) -> t_bc; opp b (p,a) -> t_ca; opp p (a,b) -> T.n[2]
-        tris_[t_ab] = {{a, b, p}, {t_bc, t_ca, T.n[2]}, static_cast<std::uint8_t>(bit(T.constrained, 2) << 2),
-                       static_cast<std::uint8_t>(bit(T.boundary, 2) << 2)};
-        // (b, c, p): opp b (c,p) -> t_ca; opp c (p,b) -> t_ab; opp p (b,c) -> T.n[0]
-        tris_[t_bc] = {{b, c, p}, {t_ca, t_ab, T.n[0]}, static_cast<std::uint8_t>(bit(T.constrained, 0) << 2),
-                       static_cast<std::uint8_t>(bit(T.boundary, 0) << 2)};
-        // (c, a, p): opp c (a,p) -> t_ab; opp a (p,c) -> t_bc; opp p (c,a) -> T.n[1]
-        tris_[t_ca] = {{c, a, p}, {t_ab, t_bc, T.n[1]}, static_cast<std::uint8_t>(bit(T.constrained, 1) << 2),
-                       static_cast<std::uint8_t>(bit(T.boundary, 1) << 2)};
-        relink(T.n[0], t, t_bc);
-        relink(T.n[1], t, t_ca);
-        soup_->touch(t_ab);
-        soup_->touch(t_bc);
-        soup_->touch(t_ca);
-        // Rotate each so that p is at index 0 for legalize's convention? legalize works with
-        // any (t, i): the edge opposite p is index 2 here.
-        queue.emplace_back(t_ab, 2);
-        queue.emplace_back(t_bc, 2);
-        queue.emplace_back(t_ca, 2);
-    }
-
-    void split_edge(TriangleId t, std::uint32_t i, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
-        const Triangle T = tris_[t];
-        const std::uint32_t a = T.v[i], b = T.v[next3(i)], c = T.v[prev3(i)];
-        const TriangleId u = T.n[i];
-        MESHD_INTERNAL_CHECK(u != kNoTriangle, "a point on the enclosing triangle's edge");
-        const Triangle U = tris_[u];
-        const std::uint32_t j = soup_->back_index(u, t);
-        const std::uint32_t d = U.v[j];
-        const std::uint32_t e_cons = bit(T.constrained, i), e_bnd = bit(T.boundary, i);
-        const TriangleId n_ab = T.n[prev3(i)], n_ca = T.n[next3(i)];
-        const std::uint32_t c_ab = bit(T.constrained, prev3(i)), b_ab = bit(T.boundary, prev3(i));
-        const std::uint32_t c_ca = bit(T.constrained, next3(i)), b_ca = bit(T.boundary, next3(i));
-        // In u = (d, c, b): across (d, c) is opposite b = U.n[prev3(j)], across (b, d) opposite c = U.n[next3(j)].
-        const TriangleId n_dc = U.n[prev3(j)], n_bd = U.n[next3(j)];
-        const std::uint32_t c_dc = bit(U.constrained, prev3(j)), b_dc = bit(U.boundary, prev3(j));
-        const std::uint32_t c_bd = bit(U.constrained, next3(j)), b_bd = bit(U.boundary, next3(j));
-        const TriangleId t1 = t, t2 = new_triangle(), t3 = u, t4 = new_triangle();
-        auto flags = [](std::uint32_t f0, std::uint32_t f1, std::uint32_t f2) {
-            return static_cast<std::uint8_t>(f0 | (f1 << 1) | (f2 << 2));
-        };
-        // t1 = (a, b, p): opp a (b,p) -> t4; opp b (p,a) -> t2; opp p (a,b) -> n_ab
-        tris_[t1] = {{a, b, p}, {t4, t2, n_ab}, flags(e_cons, 0, c_ab), flags(e_bnd, 0, b_ab)};
-        // t2 = (a, p, c): opp a (p,c) -> t3; opp p (c,a) -> n_ca; opp c (a,p) -> t1
-        tris_[t2] = {{a, p, c}, {t3, n_ca, t1}, flags(e_cons, c_ca, 0), flags(e_bnd, b_ca, 0)};
-        // t3 = (d, c, p): opp d (c,p) -> t2; opp c (p,d) -> t4; opp p (d,c) -> n_dc
-        tris_[t3] = {{d, c, p}, {t2, t4, n_dc}, flags(e_cons, 0, c_dc), flags(e_bnd, 0, b_dc)};
-        // t4 = (d, p, b): opp d (p,b) -> t1; opp p (b,d) -> n_bd; opp b (d,p) -> t3
-        tris_[t4] = {{d, p, b}, {t1, n_bd, t3}, flags(e_cons, c_bd, 0), flags(e_bnd, b_bd, 0)};
-        relink(n_ca, t, t2);
-        relink(n_bd, u, t4);
-        for (TriangleId x : {t1, t2, t3, t4}) soup_->touch(x);
-        queue.emplace_back(t1, 2);
-        queue.emplace_back(t2, 1);
-        queue.emplace_back(t3, 2);
-        queue.emplace_back(t4, 1);
     }
 
     void mark_constraint(std::uint32_t a, std::uint32_t b, bool loop) {

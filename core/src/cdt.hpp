@@ -46,7 +46,17 @@ public:
     /// Needs the vertex index.
     std::pair<TriangleId, std::uint32_t> find_edge(std::uint32_t a, std::uint32_t b) const;
 
+    /// Inserts vertex p inside triangle t (three triangles) or on its edge i (the two
+    /// triangles across it become four; a constrained edge stays constrained in its halves).
+    /// Queues the edges opposite p for legalize().
+    void split_triangle(TriangleId t, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue);
+    void split_edge(TriangleId t, std::uint32_t i, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue);
+
     TriangleId vertex_triangle(std::uint32_t v) const { return vtri_[v]; }
+    /// Room in the vertex index for points added after construction.
+    void grow_vertices(size_t n) {
+        if (track_ && vtri_.size() < n) vtri_.resize(n, kNoTriangle);
+    }
     void set_vertex_triangle(std::uint32_t v, TriangleId t) {
         if (track_) vtri_[v] = t;
     }
@@ -57,6 +67,9 @@ public:
     void rebuild_vertex_index();
 
 private:
+    TriangleId new_triangle();
+    void relink(TriangleId nb, TriangleId old_t, TriangleId new_t);
+
     const std::vector<Vec2>& pts_;
     std::vector<Triangle>& t_;
     bool track_;

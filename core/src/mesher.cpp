@@ -95,6 +95,8 @@ MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions
     t0 = Clock::now();
     if (options.smoothing_iterations > 0)
         r.stats.smoothing_moves = smooth(m, options.smoothing_iterations, &r.stats.smoothing_flips, observer);
+    if (options.min_angle_deg > 0.0)
+        r.stats.refinement_points = refine_min_angle(m, rho, options.min_angle_deg, options.max_points, observer);
     r.timings.smoothing_ms = ms_since(t0);
 
     if (observer) observer->on_progress(Stage::Quality, 0.0);

@@ -33,6 +33,9 @@ struct MeshOptions {
     size_t max_points = 0;
     SplineSpacing spline_spacing = SplineSpacing::ArcLength;
     InteriorOptions interior;
+    /// Quality refinement after smoothing: no angle below this (degrees) except input
+    /// corners; 0 keeps the paper's method. Up to about 30 degrees.
+    double min_angle_deg = 0.0;
 };
 
 struct StageTimings {
@@ -43,6 +46,7 @@ struct MeshStats {
     InteriorStats interior;
     TriangulationStats triangulation;
     std::uint64_t smoothing_moves = 0, smoothing_flips = 0;
+    std::uint64_t refinement_points = 0;
     std::uint64_t orient_calls = 0, orient_exact = 0, incircle_calls = 0, incircle_exact = 0;
 };
 
@@ -68,6 +72,13 @@ double estimate_point_count(const Discretisation& boundary, const SizeField& rho
 /// boundary and the interior, then sets them as the gradation sources of rho.
 void set_gradation_sources(SizeField& rho, const Discretisation& boundary,
                            Observer* observer = nullptr);
+
+/// Inserts circumcentres (or splits constrained edges they encroach) until no triangle has
+/// an angle below min_angle_deg, except at input corners and below a tenth of the local size;
+/// keeps the mesh constrained Delaunay. Stops at max_points (0: no limit). Returns the number
+/// of points added.
+std::uint64_t refine_min_angle(Mesh& mesh, const SizeField& rho, double min_angle_deg, size_t max_points = 0,
+                               Observer* observer = nullptr);
 
 /// Laplacian smoothing of the interior points (section 5 of ALGORITHM.md): each sweep moves
 /// every interior point to the mean of its neighbours unless that inverts a triangle of its
