@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkgconf
+  build-essential cmake ninja-build pkgconf curl
   libmuparser-dev nlohmann-json3-dev libspdlog-dev libcpp-httplib-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   # the readers the tests read our files back with
