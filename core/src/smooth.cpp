@@ -15,6 +15,7 @@ std::uint64_t smooth(Mesh& m, int iterations, std::uint64_t* flips, Observer* ob
     std::uint64_t moves = 0;
     std::vector<std::uint32_t> offset(nv + 1), incident;
     std::vector<Vec2> pts(nv);
+    std::vector<double> quality, star_quality;
     for (int it = 0; it < iterations; ++it) {
         if (observer) {
             if (observer->should_stop()) throw Cancelled();
@@ -30,6 +31,13 @@ std::uint64_t smooth(Mesh& m, int iterations, std::uint64_t* flips, Observer* ob
         for (TriangleId t = 0; t < m.triangles.size(); ++t)
             for (auto v : m.triangles[t].v) incident[fill[v]++] = t;
 
+        // Radius ratio of every triangle, kept current as points move: the "before" side of
+        // each star's test costs lookups only.
+        quality.resize(m.triangles.size());
+        for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+            const Triangle& T = m.triangles[t];
+            quality[t] = radius_ratio(m.point(T.v[0]), m.point(T.v[1]), m.point(T.v[2]));
+        }
         std::uint64_t moved = 0;
         for (std::uint32_t v = 0; v < nv; ++v) {
             if (m.kind[v] != PointKind::Interior) continue;
@@ -43,7 +51,7 @@ std::uint64_t smooth(Mesh& m, int iterations, std::uint64_t* flips, Observer* ob
                 const Triangle& t = m.triangles[incident[k]];
                 for (auto w : t.v)
                     if (w != v) { sum += m.point(w); ++count; }
-                worst_before = std::fmin(worst_before, radius_ratio(m.point(t.v[0]), m.point(t.v[1]), m.point(t.v[2])));
+                worst_before = std::fmin(worst_before, quality[incident[k]]);
             }
             if (count == 0) continue;
             const Vec2 target = sum / static_cast<double>(count);
@@ -53,13 +61,16 @@ std::uint64_t smooth(Mesh& m, int iterations, std::uint64_t* flips, Observer* ob
                 m.y[v] = p.y;
                 bool ok = true;
                 double worst_after = 1.0;
+                star_quality.clear();
                 for (auto k = offset[v]; k < offset[v + 1] && ok; ++k) {
                     const Triangle& t = m.triangles[incident[k]];
                     const Vec2 a = m.point(t.v[0]), b = m.point(t.v[1]), c = m.point(t.v[2]);
                     if (orient2d(a, b, c) != Orientation::Left) ok = false;
-                    worst_after = std::fmin(worst_after, radius_ratio(a, b, c));
+                    star_quality.push_back(radius_ratio(a, b, c));
+                    worst_after = std::fmin(worst_after, star_quality.back());
                 }
                 if (ok && worst_after >= worst_before) {
+                    for (auto k = offset[v]; k < offset[v + 1]; ++k) quality[incident[k]] = star_quality[k - offset[v]];
                     ++moved;
                     break;
                 }
