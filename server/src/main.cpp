@@ -3,8 +3,11 @@
 // and exits 0.
 
 #include <signal.h>
+#include <spdlog/pattern_formatter.h>
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
+
+#include <nlohmann/json.hpp>
 
 #include <atomic>
 #include <cstdio>
@@ -18,6 +21,17 @@ namespace {
 std::atomic<int> g_signal{0};
 
 void on_signal(int sig) { g_signal = sig; }
+
+// %* in a pattern: the message as a JSON string literal, so that --log-json lines parse.
+class JsonMessage : public spdlog::custom_flag_formatter {
+public:
+    void format(const spdlog::details::log_msg& msg, const std::tm&, spdlog::memory_buf_t& dest) override {
+        const std::string text(msg.payload.data(), msg.payload.size());
+        const std::string quoted = nlohmann::json(text).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+        dest.append(quoted.data(), quoted.data() + quoted.size());
+    }
+    std::unique_ptr<custom_flag_formatter> clone() const override { return std::make_unique<JsonMessage>(); }
+};
 
 }  // namespace
 
@@ -38,9 +52,11 @@ int main(int argc, char** argv) {
     auto logger = spdlog::stdout_logger_mt("meshd");
     spdlog::set_default_logger(logger);
     spdlog::set_level(spdlog::level::from_str(config.log_level));
-    if (config.log_json)
-        spdlog::set_pattern(R"({"time":"%Y-%m-%dT%H:%M:%S.%eZ","level":"%l","log":%v})", spdlog::pattern_time_type::utc);
-    else
+    if (config.log_json) {
+        auto f = std::make_unique<spdlog::pattern_formatter>(spdlog::pattern_time_type::utc);
+        f->add_flag<JsonMessage>('*').set_pattern(R"({"time":"%Y-%m-%dT%H:%M:%S.%eZ","level":"%l","msg":%*})");
+        spdlog::set_formatter(std::move(f));
+    } else
         spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%eZ %l %v", spdlog::pattern_time_type::utc);
     spdlog::flush_on(spdlog::level::info);
 

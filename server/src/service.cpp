@@ -189,13 +189,7 @@ void Service::install() {
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - request_start).count();
         const std::string route = route_of(req.path);
         metrics_.request(route, res.status, secs);
-        if (config_.log_json) {
-            json l{{"msg", "request"}, {"method", req.method}, {"path", req.path}, {"status", res.status},
-                   {"ms", secs * 1000.0}};
-            spdlog::info("{}", l.dump());
-        } else {
-            spdlog::info("{} {} {} {:.1f}ms", req.method, req.path, res.status, secs * 1000.0);
-        }
+        spdlog::info("{} {} {} {:.1f}ms", req.method, req.path, res.status, secs * 1000.0);
     });
     s.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
         if (!res.body.empty()) return;

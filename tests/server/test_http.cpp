@@ -234,8 +234,15 @@ TEST(Http, QueueFullAnswers429WithRetryAfter) {
     auto ready = c.Get("/readyz");
     ASSERT_TRUE(ready);
     EXPECT_EQ(ready->status, 503);
-    for (const auto& id : ids) c.Delete(("/v1/jobs/" + id).c_str());
-    for (const auto& id : ids) wait_for_job(c, id, 5);
+    // Cancel the waiting job first: it is cancelled at once, before it ever runs.
+    auto del = c.Delete(("/v1/jobs/" + ids[1]).c_str());
+    ASSERT_TRUE(del);
+    EXPECT_EQ(del->status, 200);
+    const json queued = json::parse(del->body);
+    EXPECT_EQ(queued["status"], "cancelled");
+    EXPECT_FALSE(queued.contains("started_at"));
+    c.Delete(("/v1/jobs/" + ids[0]).c_str());
+    for (const auto& id : ids) EXPECT_EQ(wait_for_job(c, id, 5)["status"], "cancelled");
     auto again = c.Get("/readyz");
     EXPECT_EQ(again->status, 200);
 }
@@ -306,6 +313,45 @@ TEST(Http, CatalogueOfBadRequestsLeavesTheServerHealthy) {
     ASSERT_TRUE(good);
     EXPECT_EQ(good->status, 200);
     EXPECT_EQ(s.log().find(" 500 "), std::string::npos);
+}
+
+TEST(Http, ResultsOverTheMemoryBudgetAreDroppedOldestFirst) {
+    ServerProcess s({"--result-memory-mb", "1"});
+    auto c = client(s);
+    std::vector<std::string> ids;
+    for (int i = 0; i < 6; ++i) {  // each NACA 0012 result holds about 0.3 MB
+        auto r = c.Post("/v1/jobs", naca_request(), "application/json");
+        ASSERT_EQ(r->status, 202);
+        ids.push_back(json::parse(r->body)["id"]);
+        ASSERT_EQ(wait_for_job(c, ids.back())["status"], "succeeded");
+    }
+    auto oldest = c.Get(("/v1/jobs/" + ids.front() + "/mesh").c_str());
+    ASSERT_TRUE(oldest);
+    EXPECT_EQ(oldest->status, 410);
+    auto newest = c.Get(("/v1/jobs/" + ids.back() + "/mesh").c_str());
+    ASSERT_TRUE(newest);
+    EXPECT_EQ(newest->status, 200);
+}
+
+TEST(Http, JsonLogLinesParse) {
+    ServerProcess s({"--log-json"});
+    auto c = client(s);
+    ASSERT_EQ(c.Post("/v1/meshes", naca_request(), "application/json")->status, 200);
+    ASSERT_EQ(c.Post("/v1/meshes", "{", "application/json")->status, 400);
+    s.signal(SIGTERM);
+    EXPECT_EQ(s.wait(std::chrono::seconds(20)), 0);
+    std::istringstream lines(s.log());
+    std::string line;
+    int n = 0, jobs = 0;
+    while (std::getline(lines, line)) {
+        if (line.empty()) continue;
+        const json j = json::parse(line);  // throws (fails the test) when a line is not JSON
+        EXPECT_TRUE(j.contains("time") && j.contains("level") && j.contains("msg")) << line;
+        jobs += j["msg"].get<std::string>().rfind("job ", 0) == 0 ? 1 : 0;
+        ++n;
+    }
+    EXPECT_GE(n, 4);
+    EXPECT_EQ(jobs, 1);
 }
 
 TEST(Http, TimeoutFailsTheJobWithAProblem) {
