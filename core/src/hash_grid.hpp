@@ -10,6 +10,7 @@
 // query are not seen: with densities that change by less than a factor 4 over one element
 // this is exact, and otherwise the proximity and crossing tests err on the permissive side.
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -71,15 +72,20 @@ private:
 
 class SizeClasses {
 public:
-    SizeClasses(Vec2 origin, double extent) : origin_(origin), extent_(extent) {}
+    SizeClasses(Vec2 origin, double extent) : origin_(origin), extent_(extent) {
+        for (int k = 0; k <= kMax; ++k) {
+            cell_[static_cast<size_t>(k)] = 2.0 * std::ldexp(extent, -k);
+            inv_cell_[static_cast<size_t>(k)] = 1.0 / cell_[static_cast<size_t>(k)];
+        }
+    }
     int class_of(double size) const {
         if (!(size > 0.0)) return kMax;
-        const int k = static_cast<int>(std::floor(std::log2(extent_ / size)));
+        const int k = std::ilogb(extent_ / size);  // floor(log2(extent / size)), exactly
         return k < 1 ? 1 : (k > kMax ? kMax : k);
     }
-    double cell(int k) const { return 2.0 * std::ldexp(extent_, -k); }
+    double cell(int k) const { return cell_[static_cast<size_t>(k)]; }
     std::int64_t index(double v, double o, int k) const {
-        return static_cast<std::int64_t>(std::floor((v - o) / cell(k)));
+        return static_cast<std::int64_t>(std::floor((v - o) * inv_cell_[static_cast<size_t>(k)]));
     }
     std::int64_t ix(double x, int k) const { return index(x, origin_.x, k); }
     std::int64_t iy(double y, int k) const { return index(y, origin_.y, k); }
@@ -93,6 +99,7 @@ public:
 private:
     Vec2 origin_;
     double extent_;
+    std::array<double, kMax + 1> cell_{}, inv_cell_{};
 };
 
 }  // namespace meshd::core::detail
