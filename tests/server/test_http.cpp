@@ -58,7 +58,10 @@ json wait_for_job(httplib::Client& c, const std::string& id, double seconds = 60
 }
 
 std::string cli_output(const std::string& format) {
-    const std::string out = ::testing::TempDir() + "/cli_mesh." + format;
+    // One file per process and call: ctest runs tests in parallel processes.
+    static int calls = 0;
+    const std::string out = ::testing::TempDir() + "/cli_mesh_" + std::to_string(getpid()) + "_" +
+                            std::to_string(++calls) + "." + format;
     const std::string cmd = std::string(MESHD_CLI_BINARY) + " " MESHD_SOURCE_DIR "/examples/naca0012.json -q -o " + out;
     EXPECT_EQ(std::system(cmd.c_str()), 0);
     return read_file(out);
