@@ -20,6 +20,7 @@
 
 #include "cdt.hpp"
 #include "hash_grid.hpp"
+#include "kdtree.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/observer.hpp"
 #include "meshd/core/predicates.hpp"
@@ -32,29 +33,26 @@ namespace {
 using detail::CellMap;
 using detail::SizeClasses;
 
-// Static 2-d tree for disk queries.
+// Disk queries over the static tree of kdtree.hpp.
 class PointTree {
 public:
-    explicit PointTree(const std::vector<Vec2>& pts) : pts_(pts), idx_(pts.size()) {
-        std::iota(idx_.begin(), idx_.end(), 0u);
-        if (!pts.empty()) build(0, static_cast<std::uint32_t>(pts.size()));
-    }
+    explicit PointTree(const std::vector<Vec2>& pts) : pts_(pts), tree_(pts) {}
 
     template <class F>
     void query(Vec2 c, double r, F&& visit) const {
-        if (nodes_.empty()) return;
+        if (tree_.nodes.empty()) return;
         const double r2 = r * r;
         std::uint32_t stack[128];
         int top = 0;
         stack[top++] = 0;
         while (top > 0) {
-            const Node& n = nodes_[stack[--top]];
+            const detail::KdNode& n = tree_.nodes[stack[--top]];
             const double dx = std::fmax(0.0, std::fmax(n.box.lo.x - c.x, c.x - n.box.hi.x));
             const double dy = std::fmax(0.0, std::fmax(n.box.lo.y - c.y, c.y - n.box.hi.y));
             if (dx * dx + dy * dy > r2) continue;
             if (n.left == 0) {
                 for (std::uint32_t i = n.begin; i < n.end; ++i)
-                    if (norm2(pts_[idx_[i]] - c) <= r2) visit(idx_[i]);
+                    if (norm2(pts_[tree_.order[i]] - c) <= r2) visit(tree_.order[i]);
                 continue;
             }
             stack[top++] = n.left;
@@ -63,33 +61,8 @@ public:
     }
 
 private:
-    struct Node {
-        Box box;
-        std::uint32_t begin, end, left, right;
-    };
-    std::uint32_t build(std::uint32_t b, std::uint32_t e) {
-        const auto id = static_cast<std::uint32_t>(nodes_.size());
-        nodes_.push_back({});
-        Node n{};
-        n.begin = b;
-        n.end = e;
-        for (std::uint32_t i = b; i < e; ++i) n.box.add(pts_[idx_[i]]);
-        if (e - b > 8) {
-            const bool by_x = n.box.hi.x - n.box.lo.x >= n.box.hi.y - n.box.lo.y;
-            const std::uint32_t m = b + (e - b) / 2;
-            std::nth_element(idx_.begin() + b, idx_.begin() + m, idx_.begin() + e, [&](std::uint32_t i, std::uint32_t j) {
-                const double pi = by_x ? pts_[i].x : pts_[i].y, pj = by_x ? pts_[j].x : pts_[j].y;
-                return pi < pj || (pi == pj && i < j);
-            });
-            n.left = build(b, m);
-            n.right = build(m, e);
-        }
-        nodes_[id] = n;
-        return id;
-    }
     const std::vector<Vec2>& pts_;
-    std::vector<std::uint32_t> idx_;
-    std::vector<Node> nodes_;
+    detail::KdLayout tree_;
 };
 
 std::uint64_t dkey(std::uint32_t a, std::uint32_t b) { return (static_cast<std::uint64_t>(a) << 32) | b; }

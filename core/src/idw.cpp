@@ -6,13 +6,12 @@
 #include <cmath>
 #include <numeric>
 
+#include "kdtree.hpp"
 #include "meshd/core/errors.hpp"
 
 namespace meshd::core {
 
 namespace {
-
-constexpr std::uint32_t kLeafSize = 8;
 
 double delta_of(double theta) {
     return theta * theta * (1.0 + theta) / ((1.0 - theta) * (1.0 - theta) * (1.0 - theta));
@@ -33,66 +32,42 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
         (delta_of(mid) <= delta_max ? lo : hi) = mid;
     }
     theta_ = lo;
-    // Sort the sources into tree order (permute both arrays together).
-    std::vector<std::uint32_t> idx(a_.size());
-    std::iota(idx.begin(), idx.end(), 0u);
-    nodes_.reserve(2 * a_.size() / kLeafSize + 2);
-    // Build on an index array, then apply the permutation.
-    std::vector<Vec2> a = a_;
-    std::vector<double> r = rho_;
-    a_.clear();
-    rho_.clear();
-    // Recursive median split on indices.
-    auto split = [&](auto&& self, std::uint32_t b, std::uint32_t e) -> void {
-        if (e - b <= kLeafSize) return;
-        Box box;
-        for (std::uint32_t i = b; i < e; ++i) box.add(a[idx[i]]);
-        const bool by_x = box.hi.x - box.lo.x >= box.hi.y - box.lo.y;
-        const std::uint32_t m = b + (e - b) / 2;
-        std::nth_element(idx.begin() + b, idx.begin() + m, idx.begin() + e, [&](auto i, auto j) {
-            const Vec2 p = a[i], q = a[j];
-            return by_x ? (p.x < q.x || (p.x == q.x && i < j)) : (p.y < q.y || (p.y == q.y && i < j));
-        });
-        self(self, b, m);
-        self(self, m, e);
-    };
-    split(split, 0, static_cast<std::uint32_t>(idx.size()));
-    for (auto i : idx) {
-        a_.push_back(a[i]);
-        rho_.push_back(r[i]);
+    // The sources in tree order, and the treecode's sums over every node.
+    const detail::KdLayout tree(a_);
+    std::vector<Vec2> a;
+    std::vector<double> r;
+    a.reserve(a_.size());
+    r.reserve(a_.size());
+    for (auto i : tree.order) {
+        a.push_back(a_[i]);
+        r.push_back(rho_[i]);
     }
-    build(0, static_cast<std::uint32_t>(a_.size()));
-}
-
-std::uint32_t InverseDistanceField::build(std::uint32_t begin, std::uint32_t end) {
-    const auto id = static_cast<std::uint32_t>(nodes_.size());
-    nodes_.push_back({});
-    Node n{};
-    n.begin = begin;
-    n.end = end;
-    n.count = static_cast<double>(end - begin);
-    Vec2 c{0, 0}, cr{0, 0};
-    double rs = 0.0;
-    for (std::uint32_t i = begin; i < end; ++i) {
-        c += a_[i];
-        cr += rho_[i] * a_[i];
-        rs += rho_[i];
+    a_ = std::move(a);
+    rho_ = std::move(r);
+    nodes_.reserve(tree.nodes.size());
+    for (const detail::KdNode& k : tree.nodes) {
+        Node n{};
+        n.begin = k.begin;
+        n.end = k.end;
+        n.left = k.left;
+        n.right = k.right;
+        n.count = static_cast<double>(k.end - k.begin);
+        Vec2 c{0, 0}, cr{0, 0};
+        double rs = 0.0;
+        for (std::uint32_t i = k.begin; i < k.end; ++i) {
+            c += a_[i];
+            cr += rho_[i] * a_[i];
+            rs += rho_[i];
+        }
+        n.c = c / n.count;
+        n.c_rho = cr / rs;
+        n.rho_sum = rs;
+        for (std::uint32_t i = k.begin; i < k.end; ++i) {
+            n.r = std::fmax(n.r, distance(n.c, a_[i]));
+            n.r_rho = std::fmax(n.r_rho, distance(n.c_rho, a_[i]));
+        }
+        nodes_.push_back(n);
     }
-    n.c = c / n.count;
-    n.c_rho = cr / rs;
-    n.rho_sum = rs;
-    for (std::uint32_t i = begin; i < end; ++i) {
-        n.r = std::fmax(n.r, distance(n.c, a_[i]));
-        n.r_rho = std::fmax(n.r_rho, distance(n.c_rho, a_[i]));
-    }
-    if (end - begin > kLeafSize) {
-        // Same split point as the sort above.
-        const std::uint32_t m = begin + (end - begin) / 2;
-        n.left = build(begin, m);
-        n.right = build(m, end);
-    }
-    nodes_[id] = n;
-    return id;
 }
 
 double InverseDistanceField::operator()(Vec2 p) const {

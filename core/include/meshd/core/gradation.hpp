@@ -30,8 +30,6 @@ private:
         double hmin;
         std::uint32_t begin, end, left, right;
     };
-    std::uint32_t build(std::uint32_t begin, std::uint32_t end);
-
     std::vector<Vec2> pts_;
     std::vector<double> h_;
     std::vector<Node> nodes_;

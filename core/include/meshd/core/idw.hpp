@@ -41,8 +41,6 @@ private:
         std::uint32_t begin, end;  // source range
         std::uint32_t left, right; // children (0: leaf)
     };
-    std::uint32_t build(std::uint32_t begin, std::uint32_t end);
-
     std::vector<Vec2> a_;
     std::vector<double> rho_;
     std::vector<Node> nodes_;
