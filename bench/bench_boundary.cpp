@@ -44,11 +44,8 @@ std::string fig10_scaled(double s) {
     return "(x < 0.5 ? 0.1*sqrt(x^2+y^2)+0.007 : 0.1*sqrt((x-1.008930411365)^2+y^2)+0.006) * " + k;
 }
 
-void BM_CircleBoundary(benchmark::State& state) {
-    const Domain dom = build_domain(circle_domain());
-    DensitySpec spec;
-    spec.size = 2 * std::numbers::pi / static_cast<double>(state.range(0));
-    SizeField rho(spec, dom);
+// The timed loop of the boundary benchmarks, with the point count and rate as counters.
+void discretise_repeatedly(benchmark::State& state, const Domain& dom, const SizeField& rho) {
     size_t points = 0;
     for (auto _ : state) {
         const Discretisation d = discretise_boundary(dom, rho);
@@ -60,6 +57,14 @@ void BM_CircleBoundary(benchmark::State& state) {
     state.counters["points/s"] = benchmark::Counter(static_cast<double>(points) * state.iterations(),
                                                     benchmark::Counter::kIsRate);
 }
+
+void BM_CircleBoundary(benchmark::State& state) {
+    const Domain dom = build_domain(circle_domain());
+    DensitySpec spec;
+    spec.size = 2 * std::numbers::pi / static_cast<double>(state.range(0));
+    SizeField rho(spec, dom);
+    discretise_repeatedly(state, dom, rho);
+}
 BENCHMARK(BM_CircleBoundary)->RangeMultiplier(10)->Range(1000, 1000000)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
 
 void BM_AirfoilBoundary(benchmark::State& state) {
@@ -69,16 +74,7 @@ void BM_AirfoilBoundary(benchmark::State& state) {
     spec.size = fig10_scaled(scale);
     spec.min = 1e-9;
     SizeField rho(spec, dom);
-    size_t points = 0;
-    for (auto _ : state) {
-        const Discretisation d = discretise_boundary(dom, rho);
-        points = d.size();
-        benchmark::DoNotOptimize(d.x.data());
-    }
-    state.SetComplexityN(static_cast<int64_t>(points));
-    state.counters["points"] = static_cast<double>(points);
-    state.counters["points/s"] = benchmark::Counter(static_cast<double>(points) * state.iterations(),
-                                                    benchmark::Counter::kIsRate);
+    discretise_repeatedly(state, dom, rho);
 }
 BENCHMARK(BM_AirfoilBoundary)->RangeMultiplier(10)->Range(1, 10000)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
 

@@ -255,7 +255,7 @@ void options(const json& o, MeshRequest& r) {
         else fail(ptr + "/triangulator", "triangulator must be \"delaunay\" or \"advancing-front\"");
     }
     if (o.contains("max_points"))
-        r.max_points = static_cast<size_t>(integer(o["max_points"], ptr + "/max_points", 1, 4'000'000'000LL));
+        r.options.max_points = static_cast<size_t>(integer(o["max_points"], ptr + "/max_points", 1, 4'000'000'000LL));
     if (o.contains("timeout_s")) {
         const double t = number(o["timeout_s"], ptr + "/timeout_s");
         if (!(t > 0.0)) fail(ptr + "/timeout_s", "timeout_s must be positive");
@@ -264,7 +264,6 @@ void options(const json& o, MeshRequest& r) {
     if (o.contains("min_angle_deg")) {
         const double a = number(o["min_angle_deg"], ptr + "/min_angle_deg");
         if (a < 0.0 || a > 34.0) fail(ptr + "/min_angle_deg", "min_angle_deg must be between 0 and 34");
-        r.min_angle_deg = a;
         r.options.min_angle_deg = a;
     }
 }
@@ -307,7 +306,6 @@ MeshRequest parse_request(std::string_view body) {
     geometry(j["geometry"], r.geometry);
     density(j["density"], r.density);
     if (j.contains("options")) options(j["options"], r);
-    if (r.max_points) r.options.max_points = *r.max_points;
     return r;
 }
 

@@ -199,7 +199,7 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
     } catch (const core::GeometryError& e) {
         status = JobStatus::Failed;
         error = api::problem_from(e);
-        if (error->status == 413 && !job->request.max_points) {
+        if (error->status == 413 && job->request.options.max_points == 0) {
             error->detail += " (the server's limit is " + std::to_string(config_.max_points) + " points)";
         }
     } catch (const core::Cancelled&) {

@@ -5,6 +5,8 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+
+#include "support.hpp"
 #include <sstream>
 
 #include "meshd/api/problem.hpp"
@@ -13,14 +15,10 @@
 
 using namespace meshd;
 
+using meshd::test::read_file;
+
 namespace {
 
-std::string read_file(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
 
 // The answer the service would give: the problem, or status 200.
 api::Problem answer(const std::string& body) {

@@ -1,12 +1,15 @@
 #pragma once
 // Domains shared by the core tests.
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "meshd/core/domain.hpp"
+#include "meshd/core/triangulation.hpp"
 
 namespace meshd::test {
 
@@ -58,6 +61,19 @@ inline DomainSpec naca_in_circle(const std::string& code = "0012", double radius
     s.curves.push_back(arc("farfield", "F", "F", {0.5, 0.0}, ArcDirection::Ccw, "farfield"));
     s.loops = {loop({"farfield"}), loop({"wing"})};
     return s;
+}
+
+/// Triangles as sorted vertex triples (each rotated to start at its smallest vertex), for
+/// comparing triangulations whatever their order.
+inline std::vector<std::array<std::uint32_t, 3>> canonical(const std::vector<core::Triangle>& tris) {
+    std::vector<std::array<std::uint32_t, 3>> out;
+    for (const core::Triangle& t : tris) {
+        std::array<std::uint32_t, 3> v = t.v;
+        while (v[0] > v[1] || v[0] > v[2]) std::rotate(v.begin(), v.begin() + 1, v.end());
+        out.push_back(v);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
 }
 
 }  // namespace meshd::test

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "fixtures.hpp"
+
 #include "meshd/core/errors.hpp"
 #include "meshd/core/mesher.hpp"
 
@@ -102,16 +103,6 @@ std::vector<Case> cases() {
             embedded_touching()};
 }
 
-std::vector<std::array<std::uint32_t, 3>> canonical(const std::vector<Triangle>& tris) {
-    std::vector<std::array<std::uint32_t, 3>> out;
-    for (const Triangle& t : tris) {
-        std::array<std::uint32_t, 3> v = t.v;
-        while (v[0] > v[1] || v[0] > v[2]) std::rotate(v.begin(), v.begin() + 1, v.end());
-        out.push_back(v);
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-}
 
 void expect_valid(const Mesh& m, const std::string& name) {
     const auto v = check_mesh(m);

@@ -9,8 +9,10 @@
 #include "meshd/core/mesh.hpp"
 #include "meshd/core/predicates.hpp"
 #include "meshd/core/triangulation.hpp"
+#include "fixtures.hpp"
 
 using namespace meshd::core;
+using meshd::test::canonical;
 
 namespace {
 
@@ -41,17 +43,6 @@ void expect_valid(const Mesh& m) {
     for (const auto& s : v) ADD_FAILURE() << s;
 }
 
-// Sorted triangles (each rotated to start at its smallest vertex) for comparisons.
-std::vector<std::array<std::uint32_t, 3>> canonical(const std::vector<Triangle>& tris) {
-    std::vector<std::array<std::uint32_t, 3>> out;
-    for (const Triangle& t : tris) {
-        std::array<std::uint32_t, 3> v = t.v;
-        while (v[0] > v[1] || v[0] > v[2]) std::rotate(v.begin(), v.begin() + 1, v.end());
-        out.push_back(v);
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-}
 
 }  // namespace
 

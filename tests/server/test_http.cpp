@@ -5,6 +5,8 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+
+#include "support.hpp"
 #include <set>
 #include <sstream>
 
@@ -13,14 +15,10 @@
 using json = nlohmann::ordered_json;
 using meshd::test::ServerProcess;
 
+using meshd::test::read_file;
+
 namespace {
 
-std::string read_file(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
 
 const std::string& naca_request() {
     static const std::string s = read_file(MESHD_SOURCE_DIR "/examples/naca0012.json");

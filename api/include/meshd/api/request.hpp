@@ -15,10 +15,8 @@ namespace meshd::api {
 struct MeshRequest {
     core::DomainSpec geometry;
     core::DensitySpec density;
-    core::MeshOptions options;
-    std::optional<size_t> max_points;  ///< options.max_points as asked (0: not given)
+    core::MeshOptions options;  ///< max_points 0 when the request gives none
     std::optional<double> timeout_s;
-    double min_angle_deg = 0.0;
 };
 
 /// Limits of the parser itself.
