@@ -35,8 +35,10 @@ int random_points(size_t n) {
     const auto t0 = std::chrono::steady_clock::now();
     const TriangulationResult r = triangulate_delaunay(pts, cons);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("{\"tool\":\"meshd\",\"case\":\"random\",\"points\":%zu,\"triangles\":%zu,\"ms\":%.1f,\"peak_mb\":%.1f}\n",
-                n, r.triangles.size(), ms, peak_mb());
+    std::printf("{\"tool\":\"meshd\",\"case\":\"random\",\"points\":%zu,\"triangles\":%zu,\"ms\":%.1f,\"peak_mb\":%.1f,"
+                "\"flips\":%llu,\"walk_steps\":%llu}\n",
+                n, r.triangles.size(), ms, peak_mb(), static_cast<unsigned long long>(r.stats.flips),
+                static_cast<unsigned long long>(r.stats.walk_steps));
     return 0;
 }
 

@@ -104,10 +104,7 @@ std::string metrics_json(const MeshResult& r) {
                        {"triangulation", r.timings.triangulation_ms},
                        {"smoothing", r.timings.smoothing_ms},
                        {"total", r.timings.total_ms}};
-    j["predicates"] = {{"orient", r.stats.orient_calls},
-                       {"orient_exact", r.stats.orient_exact},
-                       {"incircle", r.stats.incircle_calls},
-                       {"incircle_exact", r.stats.incircle_exact}};
+    j["predicates_exact"] = {{"orient", r.stats.orient_exact}, {"incircle", r.stats.incircle_exact}};
     return j.dump();
 }
 

@@ -1,18 +1,20 @@
 // Incremental constrained Delaunay triangulation (the default triangulator).
 //
-// 1. Points are inserted in a biased randomised insertion order (BRIO: rounds of doubling
-//    size, each sorted along a Hilbert curve) into a Delaunay triangulation inside a large
-//    enclosing triangle; each point is located by a visibility walk from the previous
-//    insertion, splits its triangle (or the edge it lies on) and is legalised by Lawson flips.
+// 1. Points are inserted in a biased randomised insertion order (BRIO: rounds growing
+//    eightfold, each sorted along a Hilbert curve; the points are stored in that order) into
+//    a Delaunay triangulation inside a large enclosing triangle; each point is located by a
+//    visibility walk from the previous insertion, splits its triangle (or the edge it lies
+//    on) and is legalised by Lawson flips of the edges opposite it.
 // 2. Each constraint is recovered by flipping the edges that cross it (Sloan 1993): a crossing
 //    edge whose quad is convex is flipped; if the new diagonal still crosses, it goes back in
 //    the queue. The edges made this way are then legalised. A constraint passing through
 //    another point is split there.
-// 3. Triangles are kept when a flood fill from the inner side of every loop segment reaches
-//    them without crossing a loop segment: the outside and the holes disappear.
+// 3. A flood fill from the enclosing triangle and from the outer side of every loop segment,
+//    never crossing a loop segment, finds the outside and the holes, which are dropped.
 // All decisions are exact signs (orient2d, incircle_perturbed).
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <memory>
@@ -97,7 +99,11 @@ bool TriangleSoup::illegal(TriangleId t, std::uint32_t i) const {
     const TriangleId u = T.n[i];
     if (u == kNoTriangle || edge_bit(T.constrained, i)) return false;
     const std::uint32_t q = t_[u].v[back_index(u, t)];
-    return incircle_perturbed(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]], pts_[q], T.v[0], T.v[1], T.v[2], q) > 0;
+    const Vec2 a = pts_[T.v[0]], b = pts_[T.v[1]], c = pts_[T.v[2]], d = pts_[q];
+    const int s = incircle(a, b, c, d);
+    if (s != 0) return s > 0;
+    auto rank = [&](std::uint32_t v) { return rank_ ? (*rank_)[v] : v; };
+    return detail::incircle_tie(a, b, c, d, rank(T.v[0]), rank(T.v[1]), rank(T.v[2]), rank(q)) > 0;
 }
 
 std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
@@ -114,6 +120,21 @@ std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint
         queue.emplace_back(t, 2);
         queue.emplace_back(u, 0);
         queue.emplace_back(u, 1);
+    }
+    return flips;
+}
+
+std::uint64_t TriangleSoup::legalize_insertion(std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
+    std::uint64_t flips = 0;
+    while (!queue.empty()) {
+        const auto [t, i] = queue.back();
+        queue.pop_back();
+        if (!illegal(t, i)) continue;
+        const TriangleId u = t_[t].n[i];
+        flip(t, i);  // p = t.v[i] is now v[0] of both t = (p, b, q) and u = (p, q, c)
+        ++flips;
+        queue.emplace_back(t, 0);
+        queue.emplace_back(u, 0);
     }
     return flips;
 }
@@ -257,65 +278,110 @@ namespace {
 using detail::next3;
 using detail::prev3;
 
-// Hilbert index of (x, y) on a 2^16 grid.
-std::uint64_t hilbert(std::uint32_t x, std::uint32_t y) {
-    std::uint64_t d = 0;
-    for (std::uint32_t s = 1u << 15; s > 0; s >>= 1) {
-        const std::uint32_t rx = (x & s) ? 1 : 0;
-        const std::uint32_t ry = (y & s) ? 1 : 0;
-        d += static_cast<std::uint64_t>(s) * s * ((3 * rx) ^ ry);
-        if (ry == 0) {
-            if (rx == 1) {
-                x = s - 1 - x;
-                y = s - 1 - y;
-            }
-            std::swap(x, y);
-        }
+// Hilbert index on a 2^12 grid, four levels per table lookup. The coordinates seen at a
+// level are the original ones complemented (f) and/or swapped (s): both operations commute,
+// so the state of the walk down the curve is just the pair (f, s). The table maps a state
+// and four bits of x and of y to eight digits and the state after them.
+class HilbertTable {
+public:
+    HilbertTable() {
+        for (std::uint32_t st = 0; st < 4; ++st)
+            for (std::uint32_t xc = 0; xc < 16; ++xc)
+                for (std::uint32_t yc = 0; yc < 16; ++yc) {
+                    std::uint32_t f = st & 1u, sw = st >> 1;
+                    std::uint32_t x = sw ? yc : xc, y = sw ? xc : yc;
+                    if (f) {
+                        x ^= 15u;
+                        y ^= 15u;
+                    }
+                    std::uint32_t d = 0;
+                    for (int k = 3; k >= 0; --k) {
+                        const std::uint32_t rx = (x >> k) & 1u, ry = (y >> k) & 1u;
+                        d = (d << 2) | ((3u * rx) ^ ry);
+                        if (ry == 0) {
+                            if (rx == 1) {  // lower-right quadrant: reflect
+                                x ^= 15u;
+                                y ^= 15u;
+                                f ^= 1u;
+                            }
+                            std::swap(x, y);  // lower quadrants: transpose
+                            sw ^= 1u;
+                        }
+                    }
+                    entry_[(st << 8) | (xc << 4) | yc] = static_cast<std::uint16_t>(d | ((f | (sw << 1)) << 8));
+                }
     }
-    return d;
-}
+    std::uint32_t index(std::uint32_t x, std::uint32_t y) const {
+        std::uint32_t d = 0, st = 0;
+        for (int c = 2; c >= 0; --c) {
+            const std::uint32_t e = entry_[(st << 8) | (((x >> (4 * c)) & 15u) << 4) | ((y >> (4 * c)) & 15u)];
+            d = (d << 8) | (e & 255u);
+            st = e >> 8;
+        }
+        return d;
+    }
 
-// Deterministic insertion order: a fixed-seed shuffle cut into rounds of doubling size,
-// each round sorted along the Hilbert curve.
-std::vector<std::uint32_t> brio_order(const std::vector<Vec2>& pts, size_t n) {
+private:
+    std::array<std::uint16_t, 1024> entry_{};
+};
+
+// Deterministic insertion order after Amenta, Choi and Rote (BRIO): each point joins a
+// round by a hash of its index (the last round holds 7/8 of the points, each earlier round
+// 1/8 of the next, the first about 64), and each round is ordered along a Hilbert curve.
+// One LSD radix sort on (round, Hilbert index) packed with the point index does it all.
+std::vector<std::uint32_t> brio_order(const std::vector<Vec2>& pts) {
+    const size_t n = pts.size();
     Box box;
-    for (size_t i = 0; i < n; ++i) box.add(pts[i]);
+    for (const Vec2& p : pts) box.add(p);
     const double w = std::fmax(box.hi.x - box.lo.x, box.hi.y - box.lo.y);
-    const double scale = w > 0.0 ? 65535.0 / w : 0.0;
-    std::vector<std::uint64_t> key(n);
+    const double scale = w > 0.0 ? 4095.0 / w : 0.0;
+    static const HilbertTable hilbert;
+    std::uint32_t last = 0;  // index of the last round
+    for (size_t m = n; m > 8 * 64 && last < 15; m /= 8) ++last;
+    std::vector<std::uint64_t> keys(n), tmp(n);
     for (size_t i = 0; i < n; ++i) {
-        const auto hx = static_cast<std::uint32_t>((pts[i].x - box.lo.x) * scale);
-        const auto hy = static_cast<std::uint32_t>((pts[i].y - box.lo.y) * scale);
-        key[i] = hilbert(std::min(hx, 65535u), std::min(hy, 65535u));
+        auto hx = static_cast<std::uint32_t>((pts[i].x - box.lo.x) * scale);
+        auto hy = static_cast<std::uint32_t>((pts[i].y - box.lo.y) * scale);
+        // A 64-bit mix of the index (splitmix64's finaliser); three bits per round.
+        std::uint64_t h = (i + 1) * 0x9E3779B97F4A7C15ull;
+        h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+        h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+        h ^= h >> 31;
+        std::uint32_t round = last;
+        while (round > 0 && (h & 7u) == 0) {
+            --round;
+            h >>= 3;
+        }
+        const std::uint64_t key = (static_cast<std::uint64_t>(round) << 24) | hilbert.index(std::min(hx, 4095u), std::min(hy, 4095u));
+        keys[i] = (key << 32) | i;
+    }
+    // Stable LSD passes over the 28 key bits; the index bits are already in order.
+    std::array<size_t, 129> count{};
+    for (int shift = 32; shift < 60; shift += 7) {
+        count.fill(0);
+        for (const std::uint64_t k : keys) ++count[((k >> shift) & 127u) + 1];
+        for (size_t b = 0; b < 128; ++b) count[b + 1] += count[b];
+        for (const std::uint64_t k : keys) tmp[count[(k >> shift) & 127u]++] = k;
+        keys.swap(tmp);
     }
     std::vector<std::uint32_t> order(n);
-    for (size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
-    std::uint64_t state = 0x9E3779B97F4A7C15ull;
-    for (size_t i = n; i > 1; --i) {  // Fisher-Yates with a 64-bit LCG
-        state = state * 6364136223846793005ull + 1442695040888963407ull;
-        const size_t j = static_cast<size_t>((state >> 33) % i);
-        std::swap(order[i - 1], order[j]);
-    }
-    // Sort each round by (Hilbert key, index) packed in one integer: sorting integers is much
-    // faster than an indirect comparison.
-    std::vector<std::uint64_t> packed;
-    size_t begin = 0, len = std::min<size_t>(n, 64);
-    while (begin < n) {
-        const size_t end = std::min(n, begin + len);
-        packed.clear();
-        for (size_t k = begin; k < end; ++k) packed.push_back((key[order[k]] << 32) | order[k]);  // key < 2^32: 16-bit grid
-        std::sort(packed.begin(), packed.end());
-        for (size_t k = begin; k < end; ++k) order[k] = static_cast<std::uint32_t>(packed[k - begin]);
-        begin = end;
-        len = end;  // each round as large as everything before it
-    }
+    for (size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(keys[i]);
     return order;
 }
 
 class Builder {
 public:
+    // The points are stored in insertion order (BRIO), so that vertices inserted one after
+    // the other, which are near each other, are also near in memory; their input indices
+    // stay their perturbation ranks, so the result does not depend on this renumbering.
     Builder(const std::vector<Vec2>& input, Observer* obs) : n_(input.size()), obs_(obs) {
-        pts_ = input;
+        rank_ = brio_order(input);
+        inverse_.resize(n_);
+        pts_.reserve(n_ + 3);
+        for (size_t k = 0; k < n_; ++k) {
+            pts_.push_back(input[rank_[k]]);
+            inverse_[rank_[k]] = static_cast<std::uint32_t>(k);
+        }
         Box box;
         for (const Vec2& p : input) box.add(p);
         if (box.empty()) box.add(Vec2{0, 0});
@@ -324,22 +390,23 @@ public:
         pts_.push_back({c.x - 2 * d, c.y - d});
         pts_.push_back({c.x + 2 * d, c.y - d});
         pts_.push_back({c.x, c.y + 2 * d});
+        for (size_t k = n_; k < n_ + 3; ++k) rank_.push_back(static_cast<std::uint32_t>(k));
+        tris_.reserve(2 * n_ + 16);
         tris_.push_back({{static_cast<std::uint32_t>(n_), static_cast<std::uint32_t>(n_ + 1), static_cast<std::uint32_t>(n_ + 2)},
                          {kNoTriangle, kNoTriangle, kNoTriangle}, 0, 0});
-        soup_ = std::make_unique<detail::TriangleSoup>(pts_, tris_, true);
+        soup_ = std::make_unique<detail::TriangleSoup>(pts_, tris_, true, &rank_);
         alias_.resize(n_);
         for (size_t i = 0; i < n_; ++i) alias_[i] = static_cast<std::uint32_t>(i);
     }
 
     void insert_all() {
-        const std::vector<std::uint32_t> order = brio_order(pts_, n_);
         TriangleId hint = 0;
-        for (size_t k = 0; k < order.size(); ++k) {
+        for (size_t k = 0; k < n_; ++k) {
             if ((k & 4095) == 0 && obs_) {
                 if (obs_->should_stop()) throw Cancelled();
-                obs_->on_progress(Stage::Triangulation, 0.8 * static_cast<double>(k) / static_cast<double>(order.size()));
+                obs_->on_progress(Stage::Triangulation, 0.8 * static_cast<double>(k) / static_cast<double>(n_));
             }
-            hint = insert(order[k], hint);
+            hint = insert(static_cast<std::uint32_t>(k), hint);
         }
     }
 
@@ -347,44 +414,58 @@ public:
         for (size_t k = 0; k < constraints.size(); ++k) {
             if ((k & 1023) == 0 && obs_ && obs_->should_stop()) throw Cancelled();
             const Constraint& c = constraints[k];
-            recover_segment(alias_[c.a], alias_[c.b], c.loop, 0);
+            recover_segment(alias_[inverse_[c.a]], alias_[inverse_[c.b]], c.loop, 0);
         }
     }
 
     TriangulationResult finish() {
-        // Flood fill from the inner side of every loop segment.
-        std::vector<char> keep(tris_.size(), 0);
+        // Flood fill of what goes: from the enclosing triangle's corner and from the outer
+        // side of every loop segment, never across a loop segment. This region (the outside
+        // and the holes) is usually much smaller than the domain.
+        std::vector<char> gone(tris_.size(), 0);
         std::vector<TriangleId> stack;
+        auto seed = [&](TriangleId t) {
+            if (t == kNoTriangle || gone[t]) return;
+            gone[t] = 1;
+            stack.push_back(t);
+        };
+        seed(soup_->vertex_triangle(static_cast<std::uint32_t>(n_)));
+        std::vector<TriangleId> inner;
+        inner.reserve(loop_edges_.size());
         for (const auto& [a, b] : loop_edges_) {
             const auto [t, k] = soup_->find_edge(a, b);
             MESHD_INTERNAL_CHECK(t != kNoTriangle, "a loop segment is missing after recovery");
-            if (!keep[t]) {
-                keep[t] = 1;
-                stack.push_back(t);
-            }
+            inner.push_back(t);
+            seed(tris_[t].n[prev3(k)]);
         }
         while (!stack.empty()) {
             const TriangleId t = stack.back();
             stack.pop_back();
-            for (std::uint32_t i = 0; i < 3; ++i) {
-                const TriangleId u = tris_[t].n[i];
-                if (u == kNoTriangle || edge_bit(tris_[t].boundary, i) || keep[u]) continue;
-                keep[u] = 1;
-                stack.push_back(u);
+            for (std::uint32_t i = 0; i < 3; ++i)
+                if (!edge_bit(tris_[t].boundary, i)) seed(tris_[t].n[i]);
+        }
+        for (const TriangleId t : inner)
+            MESHD_INTERNAL_CHECK(!gone[t], "the outside reached the domain: a loop is open or turns the wrong way");
+        // Compact in place (a triangle only moves down), then renumber neighbours and vertices.
+        std::vector<TriangleId> remap(tris_.size(), kNoTriangle);
+        TriangleId kept = 0;
+        for (TriangleId t = 0; t < tris_.size(); ++t) {
+            if (gone[t]) continue;
+            remap[t] = kept;
+            tris_[kept++] = tris_[t];
+        }
+        tris_.resize(kept);
+        for (Triangle& t : tris_) {
+            for (auto& nb : t.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
+            for (auto& v : t.v) {
+                MESHD_INTERNAL_CHECK(v < n_, "the enclosing triangle reached the domain: a loop is open");
+                v = rank_[v];
             }
         }
-        std::vector<TriangleId> remap(tris_.size(), kNoTriangle);
         TriangulationResult r;
-        for (TriangleId t = 0; t < tris_.size(); ++t) {
-            if (!keep[t]) continue;
-            for (auto v : tris_[t].v)
-                MESHD_INTERNAL_CHECK(v < n_, "the enclosing triangle reached the domain: a loop is open");
-            remap[t] = static_cast<TriangleId>(r.triangles.size());
-            r.triangles.push_back(tris_[t]);
-        }
-        for (Triangle& t : r.triangles)
-            for (auto& nb : t.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
-        r.alias = std::move(alias_);
+        r.triangles = std::move(tris_);
+        r.alias.resize(n_);
+        for (size_t i = 0; i < n_; ++i) r.alias[i] = rank_[alias_[inverse_[i]]];
         r.stats = stats_;
         return r;
     }
@@ -433,7 +514,7 @@ private:
         queue.clear();
         if (on_edge < 0) soup_->split_triangle(t, v, queue);
         else soup_->split_edge(t, static_cast<std::uint32_t>(on_edge), v, queue);
-        stats_.flips += soup_->legalize(queue);
+        stats_.flips += soup_->legalize_insertion(queue);
         return soup_->vertex_triangle(v);
     }
 
@@ -565,7 +646,9 @@ private:
     std::vector<Vec2> pts_;
     std::vector<Triangle> tris_;
     std::unique_ptr<detail::TriangleSoup> soup_;
-    std::vector<std::uint32_t> alias_;
+    std::vector<std::uint32_t> rank_;     // internal index -> input index (and perturbation rank)
+    std::vector<std::uint32_t> inverse_;  // input index -> internal index
+    std::vector<std::uint32_t> alias_;    // internal index -> the internal index it coincides with
     std::vector<std::pair<std::uint32_t, std::uint32_t>> loop_edges_;
     std::vector<std::pair<TriangleId, std::uint32_t>> queue_;
     TriangulationStats stats_;

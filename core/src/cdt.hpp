@@ -14,8 +14,11 @@ inline std::uint32_t prev3(std::uint32_t i) { return i == 0 ? 2 : i - 1; }
 
 class TriangleSoup {
 public:
-    TriangleSoup(const std::vector<Vec2>& points, std::vector<Triangle>& tris, bool track_vertices)
-        : pts_(points), t_(tris), track_(track_vertices) {
+    /// `rank`, when given, is the symbolic-perturbation rank of every vertex (default: the
+    /// vertex index itself).
+    TriangleSoup(const std::vector<Vec2>& points, std::vector<Triangle>& tris, bool track_vertices,
+                 const std::vector<std::uint32_t>* rank = nullptr)
+        : pts_(points), t_(tris), track_(track_vertices), rank_(rank) {
         if (track_) rebuild_vertex_index();
     }
 
@@ -41,6 +44,11 @@ public:
     /// Lawson: flips until every edge in the queue (and every edge touched by a flip) is
     /// locally Delaunay. Edges as (triangle, index). Returns the number of flips.
     std::uint64_t legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue);
+
+    /// legalize() after inserting a point p, for a queue of edges (t, i) with t.v[i] == p
+    /// (as split_triangle and split_edge leave it). Edges incident to p are Delaunay, so only
+    /// the two new edges opposite p are tested after a flip: half the in-circle tests.
+    std::uint64_t legalize_insertion(std::vector<std::pair<TriangleId, std::uint32_t>>& queue);
 
     /// The triangle holding the directed edge a -> b (a at index k, b at k+1), or kNoTriangle.
     /// Needs the vertex index.
@@ -73,6 +81,7 @@ private:
     const std::vector<Vec2>& pts_;
     std::vector<Triangle>& t_;
     bool track_;
+    const std::vector<std::uint32_t>* rank_;
     std::vector<TriangleId> vtri_;
 };
 

@@ -105,9 +105,7 @@ MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions
     for (std::uint32_t v = 0; v < m.point_count(); ++v) m.target_size[v] = rho.interior(m.point(v));
     r.timings.total_ms = ms_since(t_start);
     const PredicateCounters pc = predicate_counters();
-    r.stats.orient_calls = pc.orient_calls;
     r.stats.orient_exact = pc.orient_exact;
-    r.stats.incircle_calls = pc.incircle_calls;
     r.stats.incircle_exact = pc.incircle_exact;
     return r;
 }

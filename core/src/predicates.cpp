@@ -19,9 +19,6 @@ namespace {
 
 thread_local PredicateCounters counters;
 
-constexpr double kEpsilon = 0x1p-53;  // half an ulp of 1
-// Bound on the error of the filtered orient2d determinant relative to its magnitude sum.
-constexpr double kOrientBound = (3.0 + 16.0 * kEpsilon) * kEpsilon;
 
 // x + y = s + e exactly.
 inline void two_sum(double x, double y, double& s, double& e) {
@@ -118,7 +115,7 @@ Expansion diff(double a, double b) {
     return {err, s};
 }
 
-int incircle_exact(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+int incircle_expansion(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
     const Expansion adx = diff(a.x, d.x), ady = diff(a.y, d.y);
     const Expansion bdx = diff(b.x, d.x), bdy = diff(b.y, d.y);
     const Expansion cdx = diff(c.x, d.x), cdy = diff(c.y, d.y);
@@ -132,9 +129,7 @@ int incircle_exact(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
     return sign_of(det.back());
 }
 
-constexpr double kIncircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
-
-int orient_exact(Vec2 a, Vec2 b, Vec2 c) {
+int orient_expansion(Vec2 a, Vec2 b, Vec2 c) {
     // det = ax*by - ax*cy - ay*bx + ay*cx + bx*cy - by*cx, every product exact.
     const double terms[6][2] = {{a.x, b.y}, {-a.x, c.y}, {-a.y, b.x},
                                 {a.y, c.x}, {b.x, c.y},  {-b.y, c.x}};
@@ -152,41 +147,20 @@ int orient_exact(Vec2 a, Vec2 b, Vec2 c) {
 
 }  // namespace
 
-Orientation orient2d(Vec2 a, Vec2 b, Vec2 c) {
-    ++counters.orient_calls;
-    const double left = (a.x - c.x) * (b.y - c.y);
-    const double right = (a.y - c.y) * (b.x - c.x);
-    const double det = left - right;
-    const double sum = std::fabs(left) + std::fabs(right);
-    if (std::fabs(det) > kOrientBound * sum) return static_cast<Orientation>(sign_of(det));
+namespace detail {
+
+Orientation orient2d_exact(Vec2 a, Vec2 b, Vec2 c) {
     ++counters.orient_exact;
-    return static_cast<Orientation>(orient_exact(a, b, c));
+    return static_cast<Orientation>(orient_expansion(a, b, c));
 }
 
-int incircle(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
-    ++counters.incircle_calls;
-    const double adx = a.x - d.x, ady = a.y - d.y;
-    const double bdx = b.x - d.x, bdy = b.y - d.y;
-    const double cdx = c.x - d.x, cdy = c.y - d.y;
-    const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-    const double alift = adx * adx + ady * ady;
-    const double cdxady = cdx * ady, adxcdy = adx * cdy;
-    const double blift = bdx * bdx + bdy * bdy;
-    const double adxbdy = adx * bdy, bdxady = bdx * ady;
-    const double clift = cdx * cdx + cdy * cdy;
-    const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
-    const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
-                             (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
-                             (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
-    if (std::fabs(det) > kIncircleBound * permanent) return sign_of(det);
+int incircle_exact(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
     ++counters.incircle_exact;
-    return incircle_exact(a, b, c, d);
+    return incircle_expansion(a, b, c, d);
 }
 
-int incircle_perturbed(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::uint32_t ra, std::uint32_t rb,
-                       std::uint32_t rc, std::uint32_t rd) {
-    const int s = incircle(a, b, c, d);
-    if (s != 0) return s;
+int incircle_tie(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::uint32_t ra, std::uint32_t rb, std::uint32_t rc,
+                 std::uint32_t rd) {
     // The determinant with rows (x, y, x^2 + y^2, 1) is linear in each lifted height; raising
     // the height of row i by eps^rank adds eps^rank times its cofactor, (-1)^i times the
     // orientation of the other three rows in order. The highest-weighted (lowest rank) point
@@ -205,6 +179,8 @@ int incircle_perturbed(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::uint32_t ra, std::ui
     }
     return 0;
 }
+
+}  // namespace detail
 
 PredicateCounters predicate_counters() { return counters; }
 void reset_predicate_counters() { counters = {}; }

@@ -47,7 +47,8 @@ struct MeshStats {
     TriangulationStats triangulation;
     std::uint64_t smoothing_moves = 0, smoothing_flips = 0;
     std::uint64_t refinement_points = 0;
-    std::uint64_t orient_calls = 0, orient_exact = 0, incircle_calls = 0, incircle_exact = 0;
+    /// Predicate calls the floating-point filter could not settle (exact stage).
+    std::uint64_t orient_exact = 0, incircle_exact = 0;
 };
 
 struct MeshResult {

@@ -7,7 +7,6 @@
 /// determinant recomputed exactly as a floating-point expansion (a sum of non-overlapping
 /// doubles), from which the sign is read. Inputs must be finite.
 
-#include <atomic>
 #include <cstdint>
 
 #include "meshd/core/vec2.hpp"
@@ -16,13 +15,52 @@ namespace meshd::core {
 
 enum class Orientation : int { Right = -1, Collinear = 0, Left = 1 };
 
+namespace detail {
+// The exact stages, for the rare calls the floating-point filter cannot settle.
+Orientation orient2d_exact(Vec2 a, Vec2 b, Vec2 c);
+int incircle_exact(Vec2 a, Vec2 b, Vec2 c, Vec2 d);
+int incircle_tie(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::uint32_t ra, std::uint32_t rb, std::uint32_t rc,
+                 std::uint32_t rd);
+// Error bounds of the filters relative to the magnitude sums (Shewchuk's ccwerrboundA and
+// iccerrboundA for round-to-nearest doubles).
+inline constexpr double kEpsilon = 0x1p-53;
+inline constexpr double kOrientBound = (3.0 + 16.0 * kEpsilon) * kEpsilon;
+inline constexpr double kIncircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
+}  // namespace detail
+
 /// Side of c with respect to the directed line a -> b: Left when a, b, c turn
-/// counter-clockwise.
-Orientation orient2d(Vec2 a, Vec2 b, Vec2 c);
+/// counter-clockwise. (The filter is inline: the triangulators call it in their inner loops.)
+inline Orientation orient2d(Vec2 a, Vec2 b, Vec2 c) {
+    const double left = (a.x - c.x) * (b.y - c.y);
+    const double right = (a.y - c.y) * (b.x - c.x);
+    const double det = left - right;
+    const double sum = (left < 0.0 ? -left : left) + (right < 0.0 ? -right : right);
+    if (det > detail::kOrientBound * sum) return Orientation::Left;
+    if (-det > detail::kOrientBound * sum) return Orientation::Right;
+    return detail::orient2d_exact(a, b, c);
+}
 
 /// Position of d with respect to the circle through a, b, c (a, b, c counter-clockwise):
 /// > 0 inside, < 0 outside, 0 on the circle. For a, b, c clockwise the sign flips.
-int incircle(Vec2 a, Vec2 b, Vec2 c, Vec2 d);
+inline int incircle(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+    const double adx = a.x - d.x, ady = a.y - d.y;
+    const double bdx = b.x - d.x, bdy = b.y - d.y;
+    const double cdx = c.x - d.x, cdy = c.y - d.y;
+    const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+    const double alift = adx * adx + ady * ady;
+    const double cdxady = cdx * ady, adxcdy = adx * cdy;
+    const double blift = bdx * bdx + bdy * bdy;
+    const double adxbdy = adx * bdy, bdxady = bdx * ady;
+    const double clift = cdx * cdx + cdy * cdy;
+    const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+    auto mag = [](double v) { return v < 0.0 ? -v : v; };
+    const double permanent = (mag(bdxcdy) + mag(cdxbdy)) * alift + (mag(cdxady) + mag(adxcdy)) * blift +
+                             (mag(adxbdy) + mag(bdxady)) * clift;
+    const double bound = detail::kIncircleBound * permanent;
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+    return detail::incircle_exact(a, b, c, d);
+}
 
 /// incircle() under a symbolic perturbation that removes every tie: each point p_i is
 /// lifted to x^2 + y^2 + eps^(rank_i) with eps infinitesimal, a smaller rank weighing more
@@ -30,14 +68,15 @@ int incircle(Vec2 a, Vec2 b, Vec2 c, Vec2 d);
 /// collinear. Every decision of the Delaunay code goes through it, so that any two
 /// algorithms building the (constrained) Delaunay triangulation of the same points build
 /// the same one, cocircular points included.
-int incircle_perturbed(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::uint32_t ra, std::uint32_t rb,
-                       std::uint32_t rc, std::uint32_t rd);
+inline int incircle_perturbed(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::uint32_t ra, std::uint32_t rb,
+                              std::uint32_t rc, std::uint32_t rd) {
+    const int s = incircle(a, b, c, d);
+    return s != 0 ? s : detail::incircle_tie(a, b, c, d, ra, rb, rc, rd);
+}
 
-/// Calls of the predicates and how many needed the exact stage, for statistics.
+/// How many predicate calls of this thread needed the exact stage, for statistics.
 struct PredicateCounters {
-    std::uint64_t orient_calls = 0;
     std::uint64_t orient_exact = 0;
-    std::uint64_t incircle_calls = 0;
     std::uint64_t incircle_exact = 0;
 };
 /// Counters of the calling thread since it started (or since reset).
