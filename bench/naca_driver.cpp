@@ -65,9 +65,13 @@ int main(int argc, char** argv) {
     const auto& t = r.timings;
     std::printf("{\"tool\":\"meshd\",\"case\":\"naca\",\"s\":%g,\"triangulator\":\"%s\",\"points\":%zu,\"triangles\":%zu,"
                 "\"boundary_ms\":%.1f,\"interior_ms\":%.1f,\"triangulation_ms\":%.1f,\"smoothing_ms\":%.1f,\"ms\":%.1f,"
-                "\"peak_mb\":%.1f,\"quality_mean\":%.4f,\"quality_min\":%.4f,\"angle_min\":%.2f,\"within_sqrt2\":%.4f}\n",
+                "\"peak_mb\":%.1f,\"quality_mean\":%.4f,\"quality_min\":%.4f,\"angle_min\":%.2f,\"within_sqrt2\":%.4f,"
+                "\"candidates\":%llu,\"rejected_near\":%llu,\"rejected_crossing\":%llu,\"rejected_outside\":%llu}\n",
                 s, opt.triangulator == Triangulator::Delaunay ? "delaunay" : "advancing-front", q.points, q.triangles,
                 t.boundary_ms, t.interior_ms, t.triangulation_ms, t.smoothing_ms, t.total_ms, peak_mb(), q.quality_mean,
-                q.quality_min, q.angle_min, q.size_ratio_within_sqrt2);
+                q.quality_min, q.angle_min, q.size_ratio_within_sqrt2, static_cast<unsigned long long>(r.stats.interior.candidates),
+                static_cast<unsigned long long>(r.stats.interior.rejected_near),
+                static_cast<unsigned long long>(r.stats.interior.rejected_crossing),
+                static_cast<unsigned long long>(r.stats.interior.rejected_outside));
     return 0;
 }

@@ -20,6 +20,7 @@
 #include <memory>
 
 #include "cdt.hpp"
+#include "spatial_order.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/observer.hpp"
 #include "meshd/core/predicates.hpp"
@@ -106,7 +107,8 @@ bool TriangleSoup::illegal(TriangleId t, std::uint32_t i) const {
     return detail::incircle_tie(a, b, c, d, rank(T.v[0]), rank(T.v[1]), rank(T.v[2]), rank(q)) > 0;
 }
 
-std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
+std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
+                                     std::vector<TriangleId>* changed) {
     std::uint64_t flips = 0;
     while (!queue.empty()) {
         const auto [t, i] = queue.back();
@@ -115,6 +117,10 @@ std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint
         const TriangleId u = t_[t].n[i];
         flip(t, i);
         ++flips;
+        if (changed) {
+            changed->push_back(t);
+            changed->push_back(u);
+        }
         // The four outer edges of the quad: t = (p, b, q) edges 0 and 2; u = (p, q, c) edges 0, 1.
         queue.emplace_back(t, 0);
         queue.emplace_back(t, 2);
@@ -278,104 +284,13 @@ namespace {
 using detail::next3;
 using detail::prev3;
 
-// Hilbert index on a 2^12 grid, four levels per table lookup. The coordinates seen at a
-// level are the original ones complemented (f) and/or swapped (s): both operations commute,
-// so the state of the walk down the curve is just the pair (f, s). The table maps a state
-// and four bits of x and of y to eight digits and the state after them.
-class HilbertTable {
-public:
-    HilbertTable() {
-        for (std::uint32_t st = 0; st < 4; ++st)
-            for (std::uint32_t xc = 0; xc < 16; ++xc)
-                for (std::uint32_t yc = 0; yc < 16; ++yc) {
-                    std::uint32_t f = st & 1u, sw = st >> 1;
-                    std::uint32_t x = sw ? yc : xc, y = sw ? xc : yc;
-                    if (f) {
-                        x ^= 15u;
-                        y ^= 15u;
-                    }
-                    std::uint32_t d = 0;
-                    for (int k = 3; k >= 0; --k) {
-                        const std::uint32_t rx = (x >> k) & 1u, ry = (y >> k) & 1u;
-                        d = (d << 2) | ((3u * rx) ^ ry);
-                        if (ry == 0) {
-                            if (rx == 1) {  // lower-right quadrant: reflect
-                                x ^= 15u;
-                                y ^= 15u;
-                                f ^= 1u;
-                            }
-                            std::swap(x, y);  // lower quadrants: transpose
-                            sw ^= 1u;
-                        }
-                    }
-                    entry_[(st << 8) | (xc << 4) | yc] = static_cast<std::uint16_t>(d | ((f | (sw << 1)) << 8));
-                }
-    }
-    std::uint32_t index(std::uint32_t x, std::uint32_t y) const {
-        std::uint32_t d = 0, st = 0;
-        for (int c = 2; c >= 0; --c) {
-            const std::uint32_t e = entry_[(st << 8) | (((x >> (4 * c)) & 15u) << 4) | ((y >> (4 * c)) & 15u)];
-            d = (d << 8) | (e & 255u);
-            st = e >> 8;
-        }
-        return d;
-    }
-
-private:
-    std::array<std::uint16_t, 1024> entry_{};
-};
-
-// Deterministic insertion order after Amenta, Choi and Rote (BRIO): each point joins a
-// round by a hash of its index (the last round holds 7/8 of the points, each earlier round
-// 1/8 of the next, the first about 64), and each round is ordered along a Hilbert curve.
-// One LSD radix sort on (round, Hilbert index) packed with the point index does it all.
-std::vector<std::uint32_t> brio_order(const std::vector<Vec2>& pts) {
-    const size_t n = pts.size();
-    Box box;
-    for (const Vec2& p : pts) box.add(p);
-    const double w = std::fmax(box.hi.x - box.lo.x, box.hi.y - box.lo.y);
-    const double scale = w > 0.0 ? 4095.0 / w : 0.0;
-    static const HilbertTable hilbert;
-    std::uint32_t last = 0;  // index of the last round
-    for (size_t m = n; m > 8 * 64 && last < 15; m /= 8) ++last;
-    std::vector<std::uint64_t> keys(n), tmp(n);
-    for (size_t i = 0; i < n; ++i) {
-        auto hx = static_cast<std::uint32_t>((pts[i].x - box.lo.x) * scale);
-        auto hy = static_cast<std::uint32_t>((pts[i].y - box.lo.y) * scale);
-        // A 64-bit mix of the index (splitmix64's finaliser); three bits per round.
-        std::uint64_t h = (i + 1) * 0x9E3779B97F4A7C15ull;
-        h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
-        h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
-        h ^= h >> 31;
-        std::uint32_t round = last;
-        while (round > 0 && (h & 7u) == 0) {
-            --round;
-            h >>= 3;
-        }
-        const std::uint64_t key = (static_cast<std::uint64_t>(round) << 24) | hilbert.index(std::min(hx, 4095u), std::min(hy, 4095u));
-        keys[i] = (key << 32) | i;
-    }
-    // Stable LSD passes over the 28 key bits; the index bits are already in order.
-    std::array<size_t, 129> count{};
-    for (int shift = 32; shift < 60; shift += 7) {
-        count.fill(0);
-        for (const std::uint64_t k : keys) ++count[((k >> shift) & 127u) + 1];
-        for (size_t b = 0; b < 128; ++b) count[b + 1] += count[b];
-        for (const std::uint64_t k : keys) tmp[count[(k >> shift) & 127u]++] = k;
-        keys.swap(tmp);
-    }
-    std::vector<std::uint32_t> order(n);
-    for (size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(keys[i]);
-    return order;
-}
-
 class Builder {
 public:
     // The points are stored in insertion order (BRIO), so that vertices inserted one after
     // the other, which are near each other, are also near in memory; their input indices
     // stay their perturbation ranks, so the result does not depend on this renumbering.
     Builder(const std::vector<Vec2>& input, Observer* obs) : n_(input.size()), obs_(obs) {
-        rank_ = brio_order(input);
+        rank_ = detail::brio_order(input);
         inverse_.resize(n_);
         pts_.reserve(n_ + 3);
         for (size_t k = 0; k < n_; ++k) {
@@ -446,24 +361,39 @@ public:
         }
         for (const TriangleId t : inner)
             MESHD_INTERNAL_CHECK(!gone[t], "the outside reached the domain: a loop is open or turns the wrong way");
-        // Compact in place (a triangle only moves down), then renumber neighbours and vertices.
+        // Output order: by the largest input index of the corners (a counting sort), so that
+        // the triangles around a point lie near each other in memory when the points are in
+        // a spatial order. Then the neighbours and corners are renumbered.
         std::vector<TriangleId> remap(tris_.size(), kNoTriangle);
-        TriangleId kept = 0;
+        std::vector<std::uint32_t> start(n_ + 1, 0);
         for (TriangleId t = 0; t < tris_.size(); ++t) {
             if (gone[t]) continue;
-            remap[t] = kept;
-            tris_[kept++] = tris_[t];
-        }
-        tris_.resize(kept);
-        for (Triangle& t : tris_) {
-            for (auto& nb : t.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
-            for (auto& v : t.v) {
+            for (auto& v : tris_[t].v) {
                 MESHD_INTERNAL_CHECK(v < n_, "the enclosing triangle reached the domain: a loop is open");
                 v = rank_[v];
             }
+            const auto& v = tris_[t].v;
+            ++start[std::max({v[0], v[1], v[2]})];
+        }
+        std::uint32_t kept = 0;
+        for (size_t v = 0; v <= n_; ++v) {
+            const std::uint32_t c = start[v];
+            start[v] = kept;
+            kept += c;
         }
         TriangulationResult r;
-        r.triangles = std::move(tris_);
+        r.triangles.resize(kept);
+        for (TriangleId t = 0; t < tris_.size(); ++t) {
+            if (gone[t]) continue;
+            const auto& v = tris_[t].v;
+            remap[t] = start[std::max({v[0], v[1], v[2]})]++;
+        }
+        for (TriangleId t = 0; t < tris_.size(); ++t) {
+            if (gone[t]) continue;
+            Triangle& out = r.triangles[remap[t]];
+            out = tris_[t];
+            for (auto& nb : out.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
+        }
         r.alias.resize(n_);
         for (size_t i = 0; i < n_; ++i) r.alias[i] = rank_[alias_[inverse_[i]]];
         r.stats = stats_;

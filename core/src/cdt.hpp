@@ -42,8 +42,10 @@ public:
     bool illegal(TriangleId t, std::uint32_t i) const;
 
     /// Lawson: flips until every edge in the queue (and every edge touched by a flip) is
-    /// locally Delaunay. Edges as (triangle, index). Returns the number of flips.
-    std::uint64_t legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue);
+    /// locally Delaunay. Edges as (triangle, index). Returns the number of flips; the two
+    /// triangles of every flip are appended to `changed` when given.
+    std::uint64_t legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
+                           std::vector<TriangleId>* changed = nullptr);
 
     /// legalize() after inserting a point p, for a queue of edges (t, i) with t.v[i] == p
     /// (as split_triangle and split_edge leave it). Edges incident to p are Delaunay, so only

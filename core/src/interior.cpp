@@ -209,16 +209,21 @@ private:
     }
 
     bool crosses_front(Vec2 p, Vec2 q, std::uint32_t a, std::uint32_t b) const {
+        const Vec2 lo{std::fmin(p.x, q.x), std::fmin(p.y, q.y)}, hi{std::fmax(p.x, q.x), std::fmax(p.y, q.y)};
         const int k0 = classes_.class_of(distance(p, q));
         for (int k = k0 - 1; k <= k0 + 1; ++k) {
             if (k < 1 || k > SizeClasses::kMax) continue;
-            for (auto x = classes_.ix(std::fmin(p.x, q.x), k); x <= classes_.ix(std::fmax(p.x, q.x), k); ++x)
-                for (auto y = classes_.iy(std::fmin(p.y, q.y), k); y <= classes_.iy(std::fmax(p.y, q.y), k); ++y)
+            for (auto x = classes_.ix(lo.x, k); x <= classes_.ix(hi.x, k); ++x)
+                for (auto y = classes_.iy(lo.y, k); y <= classes_.iy(hi.y, k); ++y)
                     for (auto e = segments_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = segments_.next(e)) {
                         const FrontSegment& s = front_[segments_.item(e)];
                         // Segments sharing an end with AB meet AC or BC there by construction.
                         if (s.a == a || s.a == b || s.b == a || s.b == b) continue;
-                        if (segments_intersect(p, q, pts_[s.a], pts_[s.b])) return true;
+                        const Vec2 sa = pts_[s.a], sb = pts_[s.b];
+                        if (std::fmax(sa.x, sb.x) < lo.x || std::fmin(sa.x, sb.x) > hi.x ||
+                            std::fmax(sa.y, sb.y) < lo.y || std::fmin(sa.y, sb.y) > hi.y)
+                            continue;  // the boxes do not meet
+                        if (segments_intersect(p, q, sa, sb)) return true;
                     }
         }
         return false;
@@ -255,15 +260,7 @@ private:
                 rc = rho_.interior(c);
             }
         }
-        // Paths from A and B to C must stay in the domain (this also decides C is inside).
-        const TriangleId ta = start_of(seg.a, c);
-        const TriangleId home_c = ta == kNoTriangle ? kNoTriangle : walker_.walk(ta, a, c);
-        const TriangleId tb = home_c == kNoTriangle ? kNoTriangle : start_of(seg.b, c);
-        if (home_c == kNoTriangle || tb == kNoTriangle || walker_.walk(tb, b, c) == kNoTriangle) {
-            ++stats_.rejected_outside;
-            front_[s].alive = false;
-            return;
-        }
+        // The cheap local tests first: (4.22) rejects about half of all candidates.
         if (near_other_point(c, rc, seg.a, seg.b)) {
             ++stats_.rejected_near;
             front_[s].alive = false;
@@ -271,6 +268,15 @@ private:
         }
         if (crosses_front(a, c, seg.a, seg.b) || crosses_front(b, c, seg.a, seg.b)) {
             ++stats_.rejected_crossing;
+            front_[s].alive = false;
+            return;
+        }
+        // Paths from A and B to C must stay in the domain (this also decides C is inside).
+        const TriangleId ta = start_of(seg.a, c);
+        const TriangleId home_c = ta == kNoTriangle ? kNoTriangle : walker_.walk(ta, a, c);
+        const TriangleId tb = home_c == kNoTriangle ? kNoTriangle : start_of(seg.b, c);
+        if (home_c == kNoTriangle || tb == kNoTriangle || walker_.walk(tb, b, c) == kNoTriangle) {
+            ++stats_.rejected_outside;
             front_[s].alive = false;
             return;
         }

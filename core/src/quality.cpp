@@ -14,31 +14,69 @@ double radius_ratio(Vec2 a, Vec2 b, Vec2 c) {
     return denom > 0.0 ? std::clamp(16.0 * area * area / denom, 0.0, 1.0) : 0.0;
 }
 
+namespace {
+
+std::array<double, 3> cotangents(Vec2 a, Vec2 b, Vec2 c) {
+    const double area2 = cross(b - a, c - a);
+    return {dot(b - a, c - a) / area2, dot(c - b, a - b) / area2, dot(a - c, b - c) / area2};
+}
+
+// The angle at corner k of triangle abc, in degrees.
+double angle_deg(Vec2 a, Vec2 b, Vec2 c, int k) {
+    const Vec2 p[3] = {a, b, c};
+    const Vec2 u = p[(k + 1) % 3] - p[k], w = p[(k + 2) % 3] - p[k];
+    return std::atan2(std::fabs(cross(u, w)), dot(u, w)) * (180.0 / std::numbers::pi);
+}
+
+}  // namespace
+
+CornerCot smallest_angle_cot(Vec2 a, Vec2 b, Vec2 c) {
+    const auto k = cotangents(a, b, c);
+    const int i = k[0] >= k[1] ? (k[0] >= k[2] ? 0 : 2) : (k[1] >= k[2] ? 1 : 2);
+    return {k[static_cast<size_t>(i)], i};
+}
+
+CornerCot largest_angle_cot(Vec2 a, Vec2 b, Vec2 c) {
+    const auto k = cotangents(a, b, c);
+    const int i = k[0] <= k[1] ? (k[0] <= k[2] ? 0 : 2) : (k[1] <= k[2] ? 1 : 2);
+    return {k[static_cast<size_t>(i)], i};
+}
+
 QualityMetrics measure_quality(const Mesh& m, const SizeField& rho) {
     QualityMetrics q;
     q.points = m.point_count();
     for (PointKind k : m.kind) (k == PointKind::Interior ? q.interior_points : q.boundary_points)++;
     q.triangles = m.triangles.size();
     if (m.triangles.empty()) return q;
-    double angle_sum = 0.0, quality_sum = 0.0;
-    q.angle_min = 180.0;
+    // The extreme angles are found by their cotangents; only those two get an atan2.
+    double quality_sum = 0.0;
     q.quality_min = 1.0;
-    const double to_deg = 180.0 / std::numbers::pi;
-    for (const Triangle& t : m.triangles) {
-        const Vec2 p[3] = {m.point(t.v[0]), m.point(t.v[1]), m.point(t.v[2])};
-        for (int i = 0; i < 3; ++i) {
-            const Vec2 u = p[(i + 1) % 3] - p[i], w = p[(i + 2) % 3] - p[i];
-            const double ang = std::atan2(std::fabs(cross(u, w)), dot(u, w)) * to_deg;
-            q.angle_min = std::fmin(q.angle_min, ang);
-            q.angle_max = std::fmax(q.angle_max, ang);
-            angle_sum += ang;
+    CornerCot lo{-HUGE_VAL, 0}, hi{HUGE_VAL, 0};
+    TriangleId lo_t = 0, hi_t = 0;
+    for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+        const Triangle& T = m.triangles[t];
+        const Vec2 a = m.point(T.v[0]), b = m.point(T.v[1]), c = m.point(T.v[2]);
+        const CornerCot s = smallest_angle_cot(a, b, c), l = largest_angle_cot(a, b, c);
+        if (s.cot > lo.cot) {
+            lo = s;
+            lo_t = t;
         }
-        const double rr = radius_ratio(p[0], p[1], p[2]);
+        if (l.cot < hi.cot) {
+            hi = l;
+            hi_t = t;
+        }
+        const double rr = radius_ratio(a, b, c);
         q.quality_min = std::fmin(q.quality_min, rr);
         quality_sum += rr;
         q.quality_histogram[std::min<size_t>(9, static_cast<size_t>(rr * 10.0))]++;
     }
-    q.angle_mean = angle_sum / (3.0 * static_cast<double>(m.triangles.size()));
+    auto corner_angle = [&](TriangleId t, int k) {
+        const Triangle& T = m.triangles[t];
+        return angle_deg(m.point(T.v[0]), m.point(T.v[1]), m.point(T.v[2]), k);
+    };
+    q.angle_min = corner_angle(lo_t, lo.corner);
+    q.angle_max = corner_angle(hi_t, hi.corner);
+    q.angle_mean = 60.0;  // the angles of every triangle sum to 180 degrees
     q.quality_mean = quality_sum / static_cast<double>(m.triangles.size());
     // Each edge once: from the triangle with the larger index across it, or without neighbour.
     double ratio_sum = 0.0;

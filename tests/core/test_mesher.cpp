@@ -142,6 +142,25 @@ TEST_P(MesherCase, ValidMeshBothTriangulatorsAgreeSmoothingKeepsItValid) {
             EXPECT_EQ(s.mesh.x[v], a.mesh.x[v]);
             EXPECT_EQ(s.mesh.y[v], a.mesh.y[v]);
         }
+    // The angle repair: a triangle with a point of the interior and no input corner (where
+    // the domain's own angle may be small) has no angle below 30 degrees.
+    size_t repaired_region = 0;
+    for (const Triangle& t : s.mesh.triangles) {
+        bool interior = false, corner = false;
+        for (auto v : t.v) {
+            interior |= s.mesh.kind[v] == PointKind::Interior;
+            corner |= s.mesh.kind[v] == PointKind::Corner;
+        }
+        if (!interior || corner) continue;
+        ++repaired_region;
+        const Vec2 p[3] = {s.mesh.point(t.v[0]), s.mesh.point(t.v[1]), s.mesh.point(t.v[2])};
+        for (int k = 0; k < 3; ++k) {
+            const Vec2 u = p[(k + 1) % 3] - p[k], w = p[(k + 2) % 3] - p[k];
+            const double deg = std::atan2(std::fabs(cross(u, w)), dot(u, w)) * 180.0 / std::numbers::pi;
+            EXPECT_GE(deg, 30.0) << "triangle " << t.v[0] << " " << t.v[1] << " " << t.v[2];
+        }
+    }
+    EXPECT_GT(repaired_region, s.mesh.triangles.size() / 2);
     // Spacing against rho, and quality, as figures with a floor.
     EXPECT_GE(s.quality.size_ratio_within_sqrt2, c.min_within_sqrt2);
     EXPECT_GT(s.quality.quality_mean, 0.95);

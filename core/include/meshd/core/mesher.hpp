@@ -82,9 +82,12 @@ std::uint64_t refine_min_angle(Mesh& mesh, const SizeField& rho, double min_angl
                                Observer* observer = nullptr);
 
 /// Laplacian smoothing of the interior points (section 5 of ALGORITHM.md): each sweep moves
-/// every interior point to the mean of its neighbours unless that inverts a triangle of its
-/// star or lowers the star's worst radius ratio, then restores the Delaunay property by flips
-/// of unconstrained edges. Returns the number of moves made.
+/// the interior points that are still settling to the mean of their neighbours (or half way)
+/// unless that inverts a triangle of the star or lowers the star's worst radius ratio; then
+/// the Delaunay property is restored by flips of unconstrained edges. Last, the interior
+/// corners of triangles with an angle below 34 degrees are placed where the smallest angle
+/// of their star is largest (a pattern search), again followed by flips. Returns the number
+/// of moves made.
 std::uint64_t smooth(Mesh& mesh, int iterations, std::uint64_t* flips = nullptr, Observer* observer = nullptr);
 
 }  // namespace meshd::core

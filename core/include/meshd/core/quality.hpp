@@ -23,6 +23,17 @@ struct QualityMetrics {
 /// Radius ratio of a triangle (0 when degenerate).
 double radius_ratio(Vec2 a, Vec2 b, Vec2 c);
 
+/// The largest cotangent of the three angles of a counter-clockwise triangle of positive
+/// area, i.e. that of its smallest angle (the cotangent falls as the angle grows), and the
+/// corner (0, 1, 2 for a, b, c) where it is. Divisions only: for scans over whole meshes.
+struct CornerCot {
+    double cot;
+    int corner;
+};
+CornerCot smallest_angle_cot(Vec2 a, Vec2 b, Vec2 c);
+/// Likewise for the largest angle (smallest cotangent).
+CornerCot largest_angle_cot(Vec2 a, Vec2 b, Vec2 c);
+
 /// The figures of a mesh. rho gives the target size (interior density, or the curve's on
 /// boundary edges).
 QualityMetrics measure_quality(const Mesh& mesh, const SizeField& rho);
