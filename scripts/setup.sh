@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkgconf curl
-  libmuparser-dev nlohmann-json3-dev libspdlog-dev libcpp-httplib-dev
+  nlohmann-json3-dev libspdlog-dev libcpp-httplib-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   # the readers the tests read our files back with
   python3 python3-numpy python3-meshio python3-vtk9 gmsh python3-gmsh

@@ -1,8 +1,6 @@
-// Density: expressions compiled by muParser, the per-curve table, eq. 6.1 inside, clamps.
+// Density: the per-curve table, eq. 6.1 inside, clamps (expressions: expression.cpp).
 
 #include "meshd/core/density.hpp"
-
-#include <muParser.h>
 
 #include <cmath>
 
@@ -10,69 +8,6 @@
 #include "meshd/core/tolerances.hpp"
 
 namespace meshd::core {
-
-// ---------------------------------------------------------------------------------------
-// Expression
-
-namespace {
-
-double fn_pow(double a, double b) { return std::pow(a, b); }
-double fn_ln(double a) { return std::log(a); }
-
-}  // namespace
-
-struct Expression::Impl {
-    std::string text;
-    mu::Parser parser;
-    double x = 0.0, y = 0.0;
-
-    explicit Impl(std::string t) : text(std::move(t)) {
-        parser.DefineVar("x", &x);
-        parser.DefineVar("y", &y);
-        // muParser's own log is base 10 in some versions: make log natural, as documented.
-        parser.DefineFun("log", fn_ln);
-        parser.DefineFun("ln", fn_ln);
-        parser.DefineFun("pow", fn_pow);
-        parser.SetExpr(text);
-        // Compile now so that syntax errors and unknown names surface at once.
-        x = 1.0;
-        y = 1.0;
-        parser.Eval();
-    }
-};
-
-Expression::Expression(const std::string& text) {
-    if (text.find_first_not_of(" \t\r\n") == std::string::npos)
-        throw GeometryError(GeometryErrorKind::DensityExpression, "the expression is empty");
-    try {
-        impl_ = std::make_unique<Impl>(text);
-    } catch (const mu::Parser::exception_type& e) {
-        std::string msg = "cannot parse \"" + text + "\": " + e.GetMsg();
-        if (e.GetPos() != static_cast<decltype(e.GetPos())>(-1))
-            msg += " (at position " + std::to_string(e.GetPos()) + ")";
-        throw GeometryError(GeometryErrorKind::DensityExpression, msg);
-    }
-}
-Expression::Expression(const Expression& other) : impl_(std::make_unique<Impl>(other.text())) {}
-Expression& Expression::operator=(const Expression& other) {
-    if (this != &other) impl_ = std::make_unique<Impl>(other.text());
-    return *this;
-}
-Expression::Expression(Expression&&) noexcept = default;
-Expression& Expression::operator=(Expression&&) noexcept = default;
-Expression::~Expression() = default;
-
-double Expression::operator()(double x, double y) const {
-    impl_->x = x;
-    impl_->y = y;
-    try {
-        return impl_->parser.Eval();
-    } catch (const mu::Parser::exception_type&) {
-        return std::nan("");
-    }
-}
-
-const std::string& Expression::text() const { return impl_->text; }
 
 // ---------------------------------------------------------------------------------------
 // SizeField

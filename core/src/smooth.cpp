@@ -31,6 +31,7 @@ using detail::TriangleSoup;
 constexpr double kSettled = 0.02;
 // Triangles with an angle below this (degrees) get their interior corners optimised.
 constexpr double kRepairAngle = 34.0;
+constexpr int kRepairRounds = 3;
 
 // Smallest angle of a counter-clockwise triangle, in radians; -1 when it is not
 // counter-clockwise.
@@ -91,9 +92,30 @@ public:
         return moves;
     }
 
+    std::uint64_t flips() const { return flips_; }
+
+    void write_back() {
+        for (std::uint32_t v = 0; v < pts_.size(); ++v) {
+            m_.x[v] = pts_[v].x;
+            m_.y[v] = pts_[v].y;
+        }
+    }
+
     // Optimises the position of the interior corners of triangles with an angle below
-    // kRepairAngle: a pattern search for the largest smallest angle of the star.
+    // kRepairAngle: a pattern search for the largest smallest angle of the star. A few
+    // rounds, as moving one corner changes its neighbours' stars.
     std::uint64_t repair() {
+        std::uint64_t total = 0;
+        for (int round = 0; round < kRepairRounds; ++round) {
+            const std::uint64_t m = repair_round();
+            total += m;
+            if (m == 0) break;
+        }
+        return total;
+    }
+
+private:
+    std::uint64_t repair_round() {
         std::vector<std::uint32_t> corners;
         const double cot_limit = 1.0 / std::tan(kRepairAngle * std::numbers::pi / 180.0);
         for (const Triangle& t : m_.triangles) {
@@ -113,16 +135,7 @@ public:
         return moves;
     }
 
-    std::uint64_t flips() const { return flips_; }
 
-    void write_back() {
-        for (std::uint32_t v = 0; v < pts_.size(); ++v) {
-            m_.x[v] = pts_[v].x;
-            m_.y[v] = pts_[v].y;
-        }
-    }
-
-private:
     void update_quality(TriangleId t) {
         const Triangle& T = m_.triangles[t];
         quality_[t] = radius_ratio(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]);
@@ -182,14 +195,14 @@ private:
         return false;
     }
 
-    double star_min_angle(std::uint32_t v) const {
+    // The smallest angle in star_ (radians), -1 when a triangle is inverted.
+    double star_min_angle() const {
         double worst = std::numbers::pi;
         for (const TriangleId t : star_) {
             const Triangle& T = m_.triangles[t];
             worst = std::fmin(worst, min_angle(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]));
             if (worst < 0.0) break;
         }
-        (void)v;
         return worst;
     }
 
@@ -203,7 +216,7 @@ private:
             const Triangle& T = m_.triangles[t];
             shortest = std::fmin(shortest, distance(old, pts_[T.v[next3(TriangleSoup::index_of(T, v))]]));
         }
-        const double start = star_min_angle(v);
+        const double start = star_min_angle();
         double best = start, h = 0.25 * shortest;
         constexpr double r = 0.5 * std::numbers::sqrt2;
         static constexpr std::array<Vec2, 8> dirs{Vec2{1, 0},  Vec2{r, r},   Vec2{0, 1},  Vec2{-r, r},
@@ -213,7 +226,7 @@ private:
             Vec2 best_q = p;
             for (const Vec2& d : dirs) {
                 pts_[v] = p + h * d;
-                const double f = star_min_angle(v);
+                const double f = star_min_angle();
                 if (f > best) {
                     best = f;
                     best_q = pts_[v];

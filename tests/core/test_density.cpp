@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
+#include <thread>
+
 #include <cmath>
 #include <random>
 
@@ -36,8 +39,75 @@ TEST(Expression, OperatorsAndFunctionsOfTheContract) {
     EXPECT_EQ(copy(0.3, 0.4), fig10(0.3, 0.4));
 }
 
+TEST(Expression, PrecedenceAndAssociativity) {
+    // Unary minus binds less tightly than ^, which is right associative (the conventions of
+    // muParser, which meshd used before it had its own compiler).
+    EXPECT_DOUBLE_EQ(Expression("-x^2")(3, 0), -9.0);
+    EXPECT_DOUBLE_EQ(Expression("-2^2")(0, 0), -4.0);
+    EXPECT_DOUBLE_EQ(Expression("2^3^2")(0, 0), 512.0);
+    EXPECT_DOUBLE_EQ(Expression("2^-1")(0, 0), 0.5);
+    EXPECT_DOUBLE_EQ(Expression("2*-3")(0, 0), -6.0);
+    EXPECT_DOUBLE_EQ(Expression("-x*-y")(2, 3), 6.0);
+    EXPECT_DOUBLE_EQ(Expression("x - y - 1")(5, 1), 3.0);
+    EXPECT_DOUBLE_EQ(Expression("x / y / 2")(8, 2), 2.0);
+    EXPECT_DOUBLE_EQ(Expression("2 - x")(5, 0), -3.0);
+    EXPECT_DOUBLE_EQ(Expression("2 / x")(4, 0), 0.5);
+    EXPECT_DOUBLE_EQ(Expression("1 + 2 > 2")(0, 0), 1.0);
+    EXPECT_DOUBLE_EQ(Expression("3 > 2 == 1")(0, 0), 1.0);
+    EXPECT_DOUBLE_EQ(Expression("x && 0 || 1")(1, 0), 1.0);
+    EXPECT_DOUBLE_EQ(Expression("x > 1 ? 2 : 3 + 4")(0, 0), 7.0);
+    // Nested conditionals associate to the right.
+    const Expression steps("x < 1 ? 1 : x < 3 ? 2 : 3");
+    EXPECT_EQ(steps(0, 0), 1.0);
+    EXPECT_EQ(steps(2, 0), 2.0);
+    EXPECT_EQ(steps(5, 0), 3.0);
+    // The branch not taken is not evaluated into the result, even when it is not finite.
+    EXPECT_EQ(Expression("x > 0 ? x : sqrt(x)")(4, 0), 4.0);
+    EXPECT_EQ(Expression("x != 0 ? 1 / x : 5")(0, 0), 5.0);
+}
+
+TEST(Expression, FunctionsConstantsAndNumbers) {
+    EXPECT_DOUBLE_EQ(Expression("min(x, y, 1)")(2, 3), 1.0);
+    EXPECT_DOUBLE_EQ(Expression("max(x, y, 1)")(2, 3), 3.0);
+    EXPECT_DOUBLE_EQ(Expression("sum(x, y, 1) * 3")(2, 3), 18.0);
+    EXPECT_DOUBLE_EQ(Expression("avg(x, y)")(2, 3), 2.5);
+    EXPECT_DOUBLE_EQ(Expression("atan2(1, 1)")(0, 0), std::numbers::pi / 4);
+    EXPECT_DOUBLE_EQ(Expression("sign(x) + sign(y) + sign(0)")(-2, 3), 0.0);
+    EXPECT_DOUBLE_EQ(Expression("floor(x) + ceil(y) + rint(2.6)")(1.5, 1.5), 6.0);
+    EXPECT_NEAR(Expression("ln(x) + log10(100) + log2(8)")(std::exp(1.0), 0), 6.0, 1e-15);
+    EXPECT_NEAR(Expression("asin(1) + acos(1) + atan(1)")(0, 0), std::numbers::pi * 0.75, 1e-15);
+    EXPECT_NEAR(Expression("cosh(x)^2 - sinh(x)^2 + tanh(0)")(0.7, 0), 1.0, 1e-14);
+    EXPECT_DOUBLE_EQ(Expression("_pi * _e")(0, 0), std::numbers::pi * std::numbers::e);
+    EXPECT_DOUBLE_EQ(Expression("1e-3 * x + 2.5E2 + .5")(1000, 0), 251.5);
+    // Folded constants give the same value as evaluated ones.
+    EXPECT_EQ(Expression("sqrt(2) * x")(3, 0), std::sqrt(2.0) * 3);
+    EXPECT_EQ(Expression("(1 + 2) * (x + 0.5)")(1, 0), 4.5);
+    EXPECT_EQ(Expression("  x  ")(7, 0), 7.0);
+}
+
+TEST(Expression, SharedBetweenThreads) {
+    const Expression e("0.1*sqrt((x-0.5)^2+y^2)+0.007");
+    std::vector<double> out(2);
+    std::vector<std::thread> threads;
+    for (int k = 0; k < 2; ++k)
+        threads.emplace_back([&, k] {
+            double sum = 0;
+            for (int i = 0; i < 100000; ++i) sum += e(i * 1e-5 * (k + 1), 0.25);
+            out[static_cast<size_t>(k)] = sum;
+        });
+    for (auto& t : threads) t.join();
+    double expect0 = 0, expect1 = 0;
+    for (int i = 0; i < 100000; ++i) {
+        expect0 += e(i * 1e-5, 0.25);
+        expect1 += e(i * 2e-5, 0.25);
+    }
+    EXPECT_EQ(out[0], expect0);
+    EXPECT_EQ(out[1], expect1);
+}
+
 TEST(Expression, SyntaxErrorsAreGeometryErrors) {
-    for (const char* bad : {"x +", "sqrt(", "foo(x)", "z * 2", "", "x ? 1", "1 +* 2"}) {
+    for (const char* bad : {"x +", "sqrt(", "foo(x)", "z * 2", "", "   ", "x ? 1", "1 +* 2", "1.2.3", "x y", "(x",
+                            "x)", "sqrt(x, y)", "pow(x)", "min()", "sqrt", "x = 1", "!x", "x ^", "2 ** 3"}) {
         try {
             Expression e(bad);
             ADD_FAILURE() << "accepted " << bad;
@@ -45,6 +115,35 @@ TEST(Expression, SyntaxErrorsAreGeometryErrors) {
             EXPECT_EQ(e.kind(), GeometryErrorKind::DensityExpression) << bad;
         }
     }
+}
+
+std::string parse_error(const std::string& text) {
+    try {
+        Expression e(text);
+    } catch (const GeometryError& e) {
+        return e.what();
+    }
+    return "accepted";
+}
+
+TEST(Expression, ErrorsSayWhatAndWhere) {
+    EXPECT_NE(parse_error("0.1 * z").find("unknown name 'z'"), std::string::npos) << parse_error("0.1 * z");
+    EXPECT_NE(parse_error("0.1 * z").find("position 6"), std::string::npos);
+    EXPECT_NE(parse_error("foo(x)").find("unknown name 'foo'"), std::string::npos);
+    EXPECT_NE(parse_error("sqrt(x, y)").find("sqrt takes 1 argument, not 2"), std::string::npos) << parse_error("sqrt(x, y)");
+    EXPECT_NE(parse_error("(x + 1").find("expected ')' at the end"), std::string::npos) << parse_error("(x + 1");
+    EXPECT_NE(parse_error("x + 1)").find("unexpected ')' at position 5"), std::string::npos) << parse_error("x + 1)");
+    EXPECT_NE(parse_error("").find("empty"), std::string::npos);
+    // Nesting and length are bounded, so that a hostile request cannot exhaust the stack.
+    EXPECT_NE(parse_error(std::string(5000, '(') + "x" + std::string(5000, ')')).find("nesting deeper"), std::string::npos);
+    EXPECT_NE(parse_error(std::string(5000, '-') + "x").find("nesting deeper"), std::string::npos);
+    std::string long_sum = "x";
+    for (int i = 0; i < 20000; ++i) long_sum += "+x";
+    EXPECT_NE(parse_error(long_sum).find("terms"), std::string::npos);
+    // A deep right operand chain needs many intermediate values.
+    std::string deep = "x";
+    for (int i = 0; i < 40; ++i) deep = "x*(y+" + deep + ")";
+    EXPECT_NE(parse_error(deep).find("intermediate values"), std::string::npos) << parse_error(deep).substr(0, 200);
 }
 
 namespace {

@@ -18,13 +18,15 @@
 
 namespace meshd::core {
 
-/// A compiled expression in x and y (operators + - * / ^, comparisons, && ||, c ? a : b,
-/// functions sqrt abs exp log (natural) sin cos tan min max pow). Evaluation is cheap
-/// (bytecode) but uses state inside the object: one object per thread. Copying compiles a
-/// fresh evaluator.
+/// A compiled expression in x and y: numbers, x, y, _pi, _e, operators + - * / ^ (right
+/// associative, above unary minus: -x^2 = -(x^2)), comparisons < > <= >= == != (1 or 0),
+/// && ||, c ? a : b, and the functions sqrt abs exp log (natural) ln log2 log10 sin cos tan
+/// asin acos atan sinh cosh tanh floor ceil rint sign pow atan2, and min max sum avg of one
+/// or more arguments. Compiled to a small stack machine with constants folded; evaluation
+/// keeps no state, so one object may be shared between threads.
 class Expression {
 public:
-    /// Throws GeometryError(DensityExpression) with the parser's message and position.
+    /// Throws GeometryError(DensityExpression) naming what is wrong and where.
     explicit Expression(const std::string& text);
     Expression(const Expression& other);
     Expression& operator=(const Expression& other);
