@@ -17,8 +17,8 @@ double radius_ratio(Vec2 a, Vec2 b, Vec2 c) {
 namespace {
 
 std::array<double, 3> cotangents(Vec2 a, Vec2 b, Vec2 c) {
-    const double area2 = cross(b - a, c - a);
-    return {dot(b - a, c - a) / area2, dot(c - b, a - b) / area2, dot(a - c, b - c) / area2};
+    const double inv = 1.0 / cross(b - a, c - a);
+    return {dot(b - a, c - a) * inv, dot(c - b, a - b) * inv, dot(a - c, b - c) * inv};
 }
 
 // The angle at corner k of triangle abc, in degrees.
@@ -36,12 +36,6 @@ CornerCot smallest_angle_cot(Vec2 a, Vec2 b, Vec2 c) {
     return {k[static_cast<size_t>(i)], i};
 }
 
-CornerCot largest_angle_cot(Vec2 a, Vec2 b, Vec2 c) {
-    const auto k = cotangents(a, b, c);
-    const int i = k[0] <= k[1] ? (k[0] <= k[2] ? 0 : 2) : (k[1] <= k[2] ? 1 : 2);
-    return {k[static_cast<size_t>(i)], i};
-}
-
 QualityMetrics measure_quality(const Mesh& m, const SizeField& rho) {
     QualityMetrics q;
     q.points = m.point_count();
@@ -56,14 +50,17 @@ QualityMetrics measure_quality(const Mesh& m, const SizeField& rho) {
     for (TriangleId t = 0; t < m.triangles.size(); ++t) {
         const Triangle& T = m.triangles[t];
         const Vec2 a = m.point(T.v[0]), b = m.point(T.v[1]), c = m.point(T.v[2]);
-        const CornerCot s = smallest_angle_cot(a, b, c), l = largest_angle_cot(a, b, c);
-        if (s.cot > lo.cot) {
-            lo = s;
-            lo_t = t;
-        }
-        if (l.cot < hi.cot) {
-            hi = l;
-            hi_t = t;
+        const auto k = cotangents(a, b, c);
+        for (int i = 0; i < 3; ++i) {
+            const double cot = k[static_cast<size_t>(i)];
+            if (cot > lo.cot) {
+                lo = {cot, i};
+                lo_t = t;
+            }
+            if (cot < hi.cot) {
+                hi = {cot, i};
+                hi_t = t;
+            }
         }
         const double rr = radius_ratio(a, b, c);
         q.quality_min = std::fmin(q.quality_min, rr);

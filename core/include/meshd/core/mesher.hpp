@@ -83,7 +83,7 @@ std::uint64_t refine_min_angle(Mesh& mesh, const SizeField& rho, double min_angl
 
 /// Laplacian smoothing of the interior points (section 5 of ALGORITHM.md): each sweep moves
 /// the interior points that are still settling to the mean of their neighbours (or half way)
-/// unless that inverts a triangle of the star or lowers the star's worst radius ratio; then
+/// unless that inverts a triangle of the star or lowers the star's worst mean ratio; then
 /// the Delaunay property is restored by flips of unconstrained edges. Last, the interior
 /// corners of triangles with an angle below 34 degrees are placed where the smallest angle
 /// of their star is largest (a pattern search), again followed by flips. Returns the number

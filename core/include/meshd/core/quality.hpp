@@ -31,8 +31,6 @@ struct CornerCot {
     int corner;
 };
 CornerCot smallest_angle_cot(Vec2 a, Vec2 b, Vec2 c);
-/// Likewise for the largest angle (smallest cotangent).
-CornerCot largest_angle_cot(Vec2 a, Vec2 b, Vec2 c);
 
 /// The figures of a mesh. rho gives the target size (interior density, or the curve's on
 /// boundary edges).
