@@ -190,20 +190,30 @@ private:
     // (4.22) against the points of classes k-3 .. k+1 around the class k of C: the grid of
     // class k holds classes k-1 .. k+1 and that of class k-2 holds k-3 .. k-1, so points up
     // to 16 times coarser than C are seen (their reach is largest) and down to 4 times finer.
+    // The cell of C in its own class is looked at first: it holds the offending point of most
+    // rejected candidates, and any offending point decides.
     bool near_other_point(Vec2 c, double rc, std::uint32_t a, std::uint32_t b) const {
+        auto near_in_cell = [&](int kk, std::int64_t x, std::int64_t y) {
+            for (auto e = points_.head(SizeClasses::key(kk, x, y)); e != CellMap::kNone; e = points_.next(e)) {
+                const std::uint32_t p = points_.item(e);
+                if (p == a || p == b) continue;
+                const double lim = opt_.proximity * 0.5 * (rc + prho_[p]);
+                if (norm2(pts_[p] - c) < lim * lim) return true;
+            }
+            return false;
+        };
         const int k = classes_.class_of(rc);
+        const std::int64_t cx = classes_.ix(c.x, k), cy = classes_.iy(c.y, k);
+        if (near_in_cell(k, cx, cy)) return true;
         for (int kk : {k, k - 2}) {
             if (kk < 1) continue;
             // Largest rho in grid kk: 2 c_(kk-1) = 2 cell(kk); reach (rc + that) / 2.
             const double reach = opt_.proximity * 0.5 * (rc + 2.0 * classes_.cell(kk));
-            for (auto x = classes_.ix(c.x - reach, kk); x <= classes_.ix(c.x + reach, kk); ++x)
-                for (auto y = classes_.iy(c.y - reach, kk); y <= classes_.iy(c.y + reach, kk); ++y)
-                    for (auto e = points_.head(SizeClasses::key(kk, x, y)); e != CellMap::kNone; e = points_.next(e)) {
-                        const std::uint32_t p = points_.item(e);
-                        if (p == a || p == b) continue;
-                        const double lim = opt_.proximity * 0.5 * (rc + prho_[p]);
-                        if (norm2(pts_[p] - c) < lim * lim) return true;
-                    }
+            const std::int64_t x0 = classes_.ix(c.x - reach, kk), x1 = classes_.ix(c.x + reach, kk);
+            const std::int64_t y0 = classes_.iy(c.y - reach, kk), y1 = classes_.iy(c.y + reach, kk);
+            for (auto x = x0; x <= x1; ++x)
+                for (auto y = y0; y <= y1; ++y)
+                    if (!(kk == k && x == cx && y == cy) && near_in_cell(kk, x, y)) return true;
         }
         return false;
     }
@@ -213,8 +223,10 @@ private:
         const int k0 = classes_.class_of(distance(p, q));
         for (int k = k0 - 1; k <= k0 + 1; ++k) {
             if (k < 1 || k > SizeClasses::kMax) continue;
-            for (auto x = classes_.ix(lo.x, k); x <= classes_.ix(hi.x, k); ++x)
-                for (auto y = classes_.iy(lo.y, k); y <= classes_.iy(hi.y, k); ++y)
+            const std::int64_t x0 = classes_.ix(lo.x, k), x1 = classes_.ix(hi.x, k);
+            const std::int64_t y0 = classes_.iy(lo.y, k), y1 = classes_.iy(hi.y, k);
+            for (auto x = x0; x <= x1; ++x)
+                for (auto y = y0; y <= y1; ++y)
                     for (auto e = segments_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = segments_.next(e)) {
                         const FrontSegment& s = front_[segments_.item(e)];
                         // Segments sharing an end with AB meet AC or BC there by construction.
