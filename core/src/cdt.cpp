@@ -29,10 +29,6 @@ namespace meshd::core {
 
 namespace detail {
 
-std::uint32_t TriangleSoup::index_of(const Triangle& t, std::uint32_t v) {
-    return t.v[0] == v ? 0u : (t.v[1] == v ? 1u : 2u);
-}
-
 std::uint32_t TriangleSoup::back_index(TriangleId u, TriangleId t) const {
     const Triangle& tu = t_[u];
     return tu.n[0] == t ? 0u : (tu.n[1] == t ? 1u : 2u);

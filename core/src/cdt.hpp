@@ -26,7 +26,9 @@ public:
     std::vector<Triangle>& tris() { return t_; }
 
     /// Index of vertex v in triangle t (which must contain it).
-    static std::uint32_t index_of(const Triangle& t, std::uint32_t v);
+    static std::uint32_t index_of(const Triangle& t, std::uint32_t v) {
+        return t.v[0] == v ? 0u : (t.v[1] == v ? 1u : 2u);
+    }
     /// Index in u of the edge shared with t.
     std::uint32_t back_index(TriangleId u, TriangleId t) const;
 

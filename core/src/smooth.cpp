@@ -69,6 +69,18 @@ public:
 
     std::uint64_t sweeps(int iterations) {
         const size_t nv = pts_.size();
+        // The corners around each point, as triangle << 2 | index: fixed during the sweeps,
+        // as nothing flips until they end.
+        offset_.assign(nv + 1, 0);
+        for (const Triangle& t : m_.triangles)
+            for (const auto v : t.v) ++offset_[v + 1];
+        for (size_t v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
+        corners_.resize(offset_[nv]);
+        {
+            std::vector<std::uint32_t> fill(offset_.begin(), offset_.end() - 1);
+            for (TriangleId t = 0; t < m_.triangles.size(); ++t)
+                for (std::uint32_t i = 0; i < 3; ++i) corners_[fill[m_.triangles[t].v[i]]++] = t << 2 | i;
+        }
         std::vector<char> active(nv, 0), next(nv, 0);
         for (size_t v = 0; v < nv; ++v) active[v] = m_.kind[v] == PointKind::Interior;
         std::vector<std::uint32_t> moved;
@@ -85,8 +97,8 @@ public:
                 moved.push_back(v);
                 ever[v] = 1;
                 next[v] = 1;
-                for (const TriangleId t : star_)
-                    for (const auto w : m_.triangles[t].v)
+                for (auto e = offset_[v]; e < offset_[v + 1]; ++e)
+                    for (const auto w : m_.triangles[corners_[e] >> 2].v)
                         if (m_.kind[w] == PointKind::Interior) next[w] = 1;
             }
             moves += moved.size();
@@ -167,26 +179,27 @@ private:
 
     // One guarded Laplacian move of v (full step, else half). True when v moved.
     bool laplace(std::uint32_t v) {
-        if (!walk_star(v)) return false;
+        const std::uint32_t first = offset_[v], last = offset_[v + 1];
+        if (first == last) return false;
         Vec2 sum{0, 0};
         double spokes2 = 0.0, worst_before = 1.0;
         const Vec2 old = pts_[v];
-        for (const TriangleId t : star_) {
-            const Triangle& T = m_.triangles[t];
-            const Vec2 w = pts_[T.v[next3(TriangleSoup::index_of(T, v))]];  // one neighbour per triangle
+        for (auto e = first; e < last; ++e) {
+            const Triangle& T = m_.triangles[corners_[e] >> 2];
+            const Vec2 w = pts_[T.v[next3(corners_[e] & 3u)]];  // one neighbour per triangle
             sum += w;
             spokes2 += norm2(w - old);
-            worst_before = std::fmin(worst_before, quality_[t]);
+            worst_before = std::fmin(worst_before, quality_[corners_[e] >> 2]);
         }
-        const double k = static_cast<double>(star_.size());
+        const double k = static_cast<double>(last - first);
         const Vec2 target = sum / k;
         if (norm2(target - old) < kSettled * kSettled * spokes2 / k) return false;
         for (const double step : {1.0, 0.5}) {
             pts_[v] = old + step * (target - old);
             bool ok = true;
             trial_.clear();
-            for (const TriangleId t : star_) {
-                const Triangle& T = m_.triangles[t];
+            for (auto e = first; e < last; ++e) {
+                const Triangle& T = m_.triangles[corners_[e] >> 2];
                 const Vec2 a = pts_[T.v[0]], b = pts_[T.v[1]], c = pts_[T.v[2]];
                 const double q = orient2d(a, b, c) == Orientation::Left ? shape(a, b, c) : -1.0;
                 if (q < worst_before) {
@@ -196,7 +209,7 @@ private:
                 trial_.push_back(q);
             }
             if (ok) {
-                for (size_t i = 0; i < star_.size(); ++i) quality_[star_[i]] = trial_[i];
+                for (auto e = first; e < last; ++e) quality_[corners_[e] >> 2] = trial_[e - first];
                 return true;
             }
         }
@@ -282,6 +295,7 @@ private:
     std::vector<std::uint32_t> seen_;
     std::uint32_t stamp_ = 0;
     std::vector<TriangleId> star_, changed_;
+    std::vector<std::uint32_t> offset_, corners_;
     std::vector<double> trial_;
     std::vector<std::pair<TriangleId, std::uint32_t>> queue_;
     std::uint64_t flips_ = 0;
