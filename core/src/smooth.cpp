@@ -1,11 +1,12 @@
 // Laplacian smoothing with guards, then a repair of the smallest angles; see mesher.hpp.
 //
-// The stars are walked in the triangle adjacency. A sweep visits the points that are still
-// settling: a point whose Laplacian move is below kSettled of its spoke length stays
-// put, and only the neighbours of points that moved are visited again. After the sweeps the
-// Delaunay property is restored by flips around every point that moved (ALGORITHM.md,
-// section 5: "afterwards"; restoring it after every sweep gave the same quality figures on
-// the benchmark case at a third more time).
+// A sweep visits the points that are still settling: a point whose Laplacian move is below
+// kSettled of its spoke length stays put, and only the neighbours of points that moved are
+// visited again. The corners around each point come from a table built once, since nothing
+// flips during the sweeps: the Delaunay property is restored by flips after them
+// (ALGORITHM.md, section 5: "afterwards"; restoring it after every sweep gave the same
+// quality figures on the benchmark case at a third more time). The repair then walks stars
+// in the triangle adjacency, which its flips keep current.
 
 #include <algorithm>
 #include <array>
@@ -84,7 +85,6 @@ public:
         std::vector<char> active(nv, 0), next(nv, 0);
         for (size_t v = 0; v < nv; ++v) active[v] = m_.kind[v] == PointKind::Interior;
         std::vector<std::uint32_t> moved;
-        std::vector<char> ever(nv, 0);
         std::uint64_t moves = 0;
         for (int it = 0; it < iterations; ++it) {
             if (observer_) {
@@ -95,7 +95,6 @@ public:
             for (std::uint32_t v = 0; v < nv; ++v) {
                 if (!active[v] || !laplace(v)) continue;
                 moved.push_back(v);
-                ever[v] = 1;
                 next[v] = 1;
                 for (auto e = offset_[v]; e < offset_[v + 1]; ++e)
                     for (const auto w : m_.triangles[corners_[e] >> 2].v)
@@ -106,11 +105,8 @@ public:
             active.swap(next);
             std::fill(next.begin(), next.end(), 0);
         }
-        // The Delaunay property, once, around every point that moved.
-        moved.clear();
-        for (std::uint32_t v = 0; v < nv; ++v)
-            if (ever[v]) moved.push_back(v);
-        restore_delaunay(moved);
+        // The Delaunay property, once.
+        if (moves > 0) restore_delaunay();
         return moves;
     }
 
@@ -125,38 +121,49 @@ public:
 
     // Optimises the position of the interior corners of triangles with an angle below
     // kRepairAngle: a pattern search for the largest smallest angle of the star. A few
-    // rounds, as moving one corner changes its neighbours' stars.
+    // rounds, as moving one corner changes its neighbours' stars; after the first, only the
+    // triangles around the corners that moved are looked at again.
     std::uint64_t repair() {
+        std::vector<TriangleId> suspects(m_.triangles.size());
+        for (TriangleId t = 0; t < suspects.size(); ++t) suspects[t] = t;
         std::uint64_t total = 0;
-        for (int round = 0; round < kRepairRounds; ++round) {
-            const std::uint64_t m = repair_round();
-            total += m;
-            if (m == 0) break;
+        for (int round = 0; round < kRepairRounds && !suspects.empty(); ++round) {
+            const std::vector<std::uint32_t> moved = repair_round(suspects);
+            total += moved.size();
+            ++stamp_;
+            suspects.clear();
+            for (const std::uint32_t v : moved) {
+                if (!walk_star(v)) continue;
+                for (const TriangleId t : star_)
+                    if (seen_[t] != stamp_) {
+                        seen_[t] = stamp_;
+                        suspects.push_back(t);
+                    }
+            }
         }
         return total;
     }
 
 private:
-    std::uint64_t repair_round() {
-        std::vector<std::uint32_t> corners;
+    // One round of repair() over the given triangles; returns the corners that moved.
+    std::vector<std::uint32_t> repair_round(const std::vector<TriangleId>& suspects) {
+        std::vector<std::uint32_t> corners, moved;
         const double cot_limit = 1.0 / std::tan(kRepairAngle * std::numbers::pi / 180.0);
-        for (const Triangle& t : m_.triangles) {
-            if (smallest_angle_cot(pts_[t.v[0]], pts_[t.v[1]], pts_[t.v[2]]).cot <= cot_limit) continue;
-            for (const auto v : t.v)
+        for (const TriangleId t : suspects) {
+            const Triangle& T = m_.triangles[t];
+            if (smallest_angle_cot(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]).cot <= cot_limit) continue;
+            for (const auto v : T.v)
                 if (m_.kind[v] == PointKind::Interior) corners.push_back(v);
         }
         std::sort(corners.begin(), corners.end());
         corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-        std::uint64_t moves = 0;
         for (const std::uint32_t v : corners) {
             if (!optimise(v)) continue;
-            ++moves;
-            const std::vector<std::uint32_t> one{v};
-            restore_delaunay(one);
+            moved.push_back(v);
+            restore_delaunay_around(v);
         }
-        return moves;
+        return moved;
     }
-
 
     void update_quality(TriangleId t) {
         const Triangle& T = m_.triangles[t];
@@ -266,25 +273,32 @@ private:
         return false;
     }
 
-    // Lawson flips over the edges of the stars of the moved points.
-    void restore_delaunay(const std::vector<std::uint32_t>& moved) {
-        ++stamp_;
-        queue_.clear();
-        for (const std::uint32_t v : moved) {
-            if (!walk_star(v)) continue;
-            for (const TriangleId t : star_) {
-                if (seen_[t] == stamp_) continue;
-                seen_[t] = stamp_;
-                // An edge shared with a triangle queued before is in the queue already.
-                for (std::uint32_t i = 0; i < 3; ++i) {
-                    const TriangleId u = m_.triangles[t].n[i];
-                    if (u != kNoTriangle && seen_[u] != stamp_) queue_.emplace_back(t, i);
-                }
-            }
-        }
+    // Lawson flips: the queue is legalised and the quality of flipped triangles renewed.
+    void legalize_queue() {
         changed_.clear();
         flips_ += soup_.legalize(queue_, &changed_);
         for (const TriangleId t : changed_) update_quality(t);
+    }
+
+    // Every edge once (a pass in memory order; far cheaper than walking the stars of all
+    // the points that moved, and few edges need a flip).
+    void restore_delaunay() {
+        queue_.clear();
+        for (TriangleId t = 0; t < m_.triangles.size(); ++t)
+            for (std::uint32_t i = 0; i < 3; ++i) {
+                const TriangleId u = m_.triangles[t].n[i];
+                if (u != kNoTriangle && u > t && soup_.illegal(t, i)) queue_.emplace_back(t, i);
+            }
+        legalize_queue();
+    }
+
+    // The edges of the star of v and those opposite v.
+    void restore_delaunay_around(std::uint32_t v) {
+        queue_.clear();
+        if (!walk_star(v)) return;
+        for (const TriangleId t : star_)
+            for (std::uint32_t i = 0; i < 3; ++i) queue_.emplace_back(t, i);
+        legalize_queue();
     }
 
     Mesh& m_;
