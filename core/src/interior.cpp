@@ -2,7 +2,9 @@
 
 #include "meshd/core/interior.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 #include "cdt.hpp"
@@ -218,24 +220,45 @@ private:
         return false;
     }
 
-    bool crosses_front(Vec2 p, Vec2 q, std::uint32_t a, std::uint32_t b) const {
-        const Vec2 lo{std::fmin(p.x, q.x), std::fmin(p.y, q.y)}, hi{std::fmax(p.x, q.x), std::fmax(p.y, q.y)};
-        const int k0 = classes_.class_of(distance(p, q));
-        for (int k = k0 - 1; k <= k0 + 1; ++k) {
-            if (k < 1 || k > SizeClasses::kMax) continue;
-            const std::int64_t x0 = classes_.ix(lo.x, k), x1 = classes_.ix(hi.x, k);
-            const std::int64_t y0 = classes_.iy(lo.y, k), y1 = classes_.iy(hi.y, k);
+    // Does AC or BC cross a segment of the front (any segment ever made, so also those now
+    // inside the covered region)? Each is checked against the segments of its class and the
+    // two next to it, in one scan of the cells around ABC.
+    bool crosses_front(std::uint32_t ia, std::uint32_t ib, Vec2 c) const {
+        const Vec2 a = pts_[ia], b = pts_[ib];
+        struct Edge {
+            Vec2 p, lo, hi;
+            int k;
+        };
+        const Edge edges[2] = {
+            {a, {std::fmin(a.x, c.x), std::fmin(a.y, c.y)}, {std::fmax(a.x, c.x), std::fmax(a.y, c.y)}, classes_.class_of(distance(a, c))},
+            {b, {std::fmin(b.x, c.x), std::fmin(b.y, c.y)}, {std::fmax(b.x, c.x), std::fmax(b.y, c.y)}, classes_.class_of(distance(b, c))}};
+        const int k_lo = std::max(1, std::min(edges[0].k, edges[1].k) - 1);
+        const int k_hi = std::min(SizeClasses::kMax, std::max(edges[0].k, edges[1].k) + 1);
+        for (int k = k_lo; k <= k_hi; ++k) {
+            const bool use[2] = {std::abs(k - edges[0].k) <= 1, std::abs(k - edges[1].k) <= 1};
+            Box box;
+            for (int i = 0; i < 2; ++i)
+                if (use[i]) {
+                    box.add(edges[i].lo);
+                    box.add(edges[i].hi);
+                }
+            const std::int64_t x0 = classes_.ix(box.lo.x, k), x1 = classes_.ix(box.hi.x, k);
+            const std::int64_t y0 = classes_.iy(box.lo.y, k), y1 = classes_.iy(box.hi.y, k);
             for (auto x = x0; x <= x1; ++x)
                 for (auto y = y0; y <= y1; ++y)
                     for (auto e = segments_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = segments_.next(e)) {
                         const FrontSegment& s = front_[segments_.item(e)];
                         // Segments sharing an end with AB meet AC or BC there by construction.
-                        if (s.a == a || s.a == b || s.b == a || s.b == b) continue;
+                        if (s.a == ia || s.a == ib || s.b == ia || s.b == ib) continue;
                         const Vec2 sa = pts_[s.a], sb = pts_[s.b];
-                        if (std::fmax(sa.x, sb.x) < lo.x || std::fmin(sa.x, sb.x) > hi.x ||
-                            std::fmax(sa.y, sb.y) < lo.y || std::fmin(sa.y, sb.y) > hi.y)
-                            continue;  // the boxes do not meet
-                        if (segments_intersect(p, q, sa, sb)) return true;
+                        const Vec2 slo{std::fmin(sa.x, sb.x), std::fmin(sa.y, sb.y)};
+                        const Vec2 shi{std::fmax(sa.x, sb.x), std::fmax(sa.y, sb.y)};
+                        for (int i = 0; i < 2; ++i) {
+                            const Edge& g = edges[i];
+                            if (!use[i] || shi.x < g.lo.x || slo.x > g.hi.x || shi.y < g.lo.y || slo.y > g.hi.y)
+                                continue;  // not this class, or the boxes do not meet
+                            if (segments_intersect(g.p, c, sa, sb)) return true;
+                        }
                     }
         }
         return false;
@@ -278,7 +301,7 @@ private:
             front_[s].alive = false;
             return;
         }
-        if (crosses_front(a, c, seg.a, seg.b) || crosses_front(b, c, seg.a, seg.b)) {
+        if (crosses_front(seg.a, seg.b, c)) {
             ++stats_.rejected_crossing;
             front_[s].alive = false;
             return;
