@@ -286,11 +286,12 @@ private:
         }
         double rc = rho_.interior(c);
         if (opt_.newton) {
-            // Fixed point of (4.4): the radii become the mean sizes of the new edges.
-            for (int it = 0; it < 2; ++it) {
-                Vec2 c2;
-                if (!candidate(a, b, 0.5 * (ra + rc), 0.5 * (rb + rc), seg.boundary, c2)) break;
-                if (orient2d(a, b, c2) != Orientation::Left) break;
+            // One step towards the fixed point of (4.4): the radii become the mean sizes of
+            // the new edges. (A second step changed the figures of the benchmark case by
+            // less than 1e-3 and cost 9% of this stage.)
+            Vec2 c2;
+            if (candidate(a, b, 0.5 * (ra + rc), 0.5 * (rb + rc), seg.boundary, c2) &&
+                orient2d(a, b, c2) == Orientation::Left) {
                 c = c2;
                 rc = rho_.interior(c);
             }
