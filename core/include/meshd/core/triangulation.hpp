@@ -57,8 +57,7 @@ struct Constraint {
 /// The triangles of the CDT of `points` that lie inside the loops, with their adjacency
 /// (kNoTriangle across loop segments). Points in insertion-independent order; every
 /// constraint is an edge of the result (a constraint through another input point is split
-/// there). Triangles come in the order of their largest corner index. Throws InternalError
-/// on a broken invariant. O(n log n) expected.
+/// there). Throws InternalError on a broken invariant. O(n log n) expected.
 struct TriangulationResult {
     std::vector<Triangle> triangles;
     /// Points of the input that coincide with an earlier point are merged into it:
