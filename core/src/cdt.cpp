@@ -103,42 +103,43 @@ bool TriangleSoup::illegal(TriangleId t, std::uint32_t i) const {
     return detail::incircle_tie(a, b, c, d, rank(T.v[0]), rank(T.v[1]), rank(T.v[2]), rank(q)) > 0;
 }
 
-std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
-                                     std::vector<TriangleId>* changed) {
+template <bool kInsertion>
+std::uint64_t TriangleSoup::lawson(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
+                                   std::vector<TriangleId>* changed) {
     std::uint64_t flips = 0;
     while (!queue.empty()) {
         const auto [t, i] = queue.back();
         queue.pop_back();
         if (!illegal(t, i)) continue;
         const TriangleId u = t_[t].n[i];
-        flip(t, i);
+        flip(t, i);  // p = old t.v[i] is now v[0] of both t = (p, b, q) and u = (p, q, c)
         ++flips;
         if (changed) {
             changed->push_back(t);
             changed->push_back(u);
         }
-        // The four outer edges of the quad: t = (p, b, q) edges 0 and 2; u = (p, q, c) edges 0, 1.
-        queue.emplace_back(t, 0);
-        queue.emplace_back(t, 2);
-        queue.emplace_back(u, 0);
-        queue.emplace_back(u, 1);
+        // The outer edges of the quad: t's edges 0 and 2, u's edges 0 and 1; after an
+        // insertion only those opposite p (t's 0, u's 0) can be illegal.
+        if (kInsertion) {
+            queue.emplace_back(t, 0);
+            queue.emplace_back(u, 0);
+        } else {
+            queue.emplace_back(t, 0);
+            queue.emplace_back(t, 2);
+            queue.emplace_back(u, 0);
+            queue.emplace_back(u, 1);
+        }
     }
     return flips;
 }
 
+std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
+                                     std::vector<TriangleId>* changed) {
+    return lawson<false>(queue, changed);
+}
+
 std::uint64_t TriangleSoup::legalize_insertion(std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
-    std::uint64_t flips = 0;
-    while (!queue.empty()) {
-        const auto [t, i] = queue.back();
-        queue.pop_back();
-        if (!illegal(t, i)) continue;
-        const TriangleId u = t_[t].n[i];
-        flip(t, i);  // p = t.v[i] is now v[0] of both t = (p, b, q) and u = (p, q, c)
-        ++flips;
-        queue.emplace_back(t, 0);
-        queue.emplace_back(u, 0);
-    }
-    return flips;
+    return lawson<true>(queue, nullptr);
 }
 
 std::pair<TriangleId, std::uint32_t> TriangleSoup::find_edge(std::uint32_t a, std::uint32_t b) const {

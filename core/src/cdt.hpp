@@ -79,6 +79,8 @@ public:
     void rebuild_vertex_index();
 
 private:
+    template <bool kInsertion>
+    std::uint64_t lawson(std::vector<std::pair<TriangleId, std::uint32_t>>& queue, std::vector<TriangleId>* changed);
     TriangleId new_triangle();
     void relink(TriangleId nb, TriangleId old_t, TriangleId new_t);
 
