@@ -25,7 +25,6 @@ namespace meshd::core {
 namespace {
 
 using detail::next3;
-using detail::prev3;
 using detail::TriangleSoup;
 
 // A move shorter than this fraction of the root mean square spoke is not made: the point
