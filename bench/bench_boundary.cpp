@@ -15,6 +15,7 @@
 #include <random>
 
 #include "meshd/core/boundary.hpp"
+#include "naca_case.hpp"
 
 using namespace meshd::core;
 
@@ -26,22 +27,6 @@ DomainSpec circle_domain() {
     s.curves.push_back({"c", ArcShape{{0.0, 0.0}, ArcDirection::Ccw}, "P", "P", std::nullopt});
     s.loops = {{{"c", false}}};
     return s;
-}
-
-DomainSpec airfoil_domain() {
-    DomainSpec s;
-    s.points = {{"F", {20.5, 0.0}}};
-    NacaSpec naca;
-    naca.code = "0012";
-    s.curves.push_back({"wing", naca, std::nullopt, std::nullopt, std::string("wall")});
-    s.curves.push_back({"farfield", ArcShape{{0.5, 0.0}, ArcDirection::Ccw}, "F", "F", std::string("farfield")});
-    s.loops = {{{"farfield", false}}, {{"wing", false}}};
-    return s;
-}
-
-std::string fig10_scaled(double s) {
-    const std::string k = std::to_string(s);
-    return "(x < 0.5 ? 0.1*sqrt(x^2+y^2)+0.007 : 0.1*sqrt((x-1.008930411365)^2+y^2)+0.006) * " + k;
 }
 
 // The timed loop of the boundary benchmarks, with the point count and rate as counters.
@@ -68,10 +53,10 @@ void BM_CircleBoundary(benchmark::State& state) {
 BENCHMARK(BM_CircleBoundary)->RangeMultiplier(10)->Range(1000, 1000000)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
 
 void BM_AirfoilBoundary(benchmark::State& state) {
-    const Domain dom = build_domain(airfoil_domain());
+    const Domain dom = build_domain(meshd::bench::naca_case_domain());
     DensitySpec spec;
     const double scale = 1.0 / static_cast<double>(state.range(0));
-    spec.size = fig10_scaled(scale);
+    spec.size = meshd::bench::naca_case_density(scale);
     spec.min = 1e-9;
     SizeField rho(spec, dom);
     discretise_repeatedly(state, dom, rho);
@@ -80,9 +65,9 @@ BENCHMARK(BM_AirfoilBoundary)->RangeMultiplier(10)->Range(1, 10000)->Unit(benchm
 
 template <bool kNaive>
 void BM_InverseDistance(benchmark::State& state) {
-    const Domain dom = build_domain(airfoil_domain());
+    const Domain dom = build_domain(meshd::bench::naca_case_domain());
     DensitySpec spec;
-    spec.size = fig10_scaled(1.0 / static_cast<double>(state.range(0)));
+    spec.size = meshd::bench::naca_case_density(1.0 / static_cast<double>(state.range(0)));
     SizeField rho(spec, dom);
     const Discretisation d = discretise_boundary(dom, rho);
     std::vector<Vec2> a;

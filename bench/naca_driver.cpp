@@ -19,6 +19,7 @@
 #include <string>
 
 #include "meshd/core/mesher.hpp"
+#include "naca_case.hpp"
 
 using namespace meshd::core;
 
@@ -51,16 +52,9 @@ int random_points(size_t n) {
 int main(int argc, char** argv) {
     if (argc >= 3 && std::strcmp(argv[1], "--random") == 0) return random_points(std::strtoull(argv[2], nullptr, 10));
     const double s = argc > 1 ? std::atof(argv[1]) : 1.0;
-    DomainSpec spec;
-    spec.points = {{"F", {20.5, 0.0}}};
-    NacaSpec naca;
-    naca.code = "0012";
-    spec.curves.push_back({"wing", naca, std::nullopt, std::nullopt, std::string("wall")});
-    spec.curves.push_back({"farfield", ArcShape{{0.5, 0.0}, ArcDirection::Ccw}, "F", "F", std::string("farfield")});
-    spec.loops = {{{"farfield", false}}, {{"wing", false}}};
-    const Domain dom = build_domain(spec);
+    const Domain dom = build_domain(meshd::bench::naca_case_domain());
     DensitySpec ds;
-    ds.size = "(x < 0.5 ? 0.1*sqrt(x^2+y^2)+0.007 : 0.1*sqrt((x-1.008930411365)^2+y^2)+0.006)*" + std::to_string(s);
+    ds.size = meshd::bench::naca_case_density(s);
     SizeField rho(ds, dom);
     MeshOptions opt;
     int repeat = 1;
