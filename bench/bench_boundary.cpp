@@ -14,7 +14,7 @@
 #include <numbers>
 #include <random>
 
-#include "meshd/core/boundary.hpp"
+#include "boundary/boundary.hpp"
 #include "naca_case.hpp"
 
 using namespace meshd::core;

@@ -20,7 +20,6 @@
 #include "meshd/api/problem.hpp"
 #include "meshd/api/request.hpp"
 #include "meshd/api/writers.hpp"
-#include "meshd/core/errors.hpp"
 
 namespace {
 
@@ -113,7 +112,7 @@ int main(int argc, char** argv) {
     try {
         const api::MeshRequest req = api::parse_request(body);
         Progress progress(!quiet && isatty(2), req.timeout_s);
-        const core::MeshResult r = api::run_request(req, &progress);
+        const core::MeshResult r = core::generate_mesh(req.geometry, req.density, req.options, &progress);
         progress.finish();
         auto write = [&](std::ostream& os) {
             if (*format == api::Format::Svg) api::write_svg(r, os, view);
@@ -140,17 +139,13 @@ int main(int argc, char** argv) {
                          output.empty() ? "" : " -> ", output.c_str());
         }
         return 0;
-    } catch (const api::RequestError& e) {
-        std::fprintf(stderr, "%s\n", e.problem().to_json().c_str());
-        return e.problem().status == 400 ? 2 : 3;
-    } catch (const core::GeometryError& e) {
-        std::fprintf(stderr, "%s\n", api::problem_from(e).to_json().c_str());
-        return 3;
-    } catch (const core::Cancelled&) {
-        std::fprintf(stderr, "meshd-cli: stopped by the timeout\n");
-        return 5;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "meshd-cli: internal error: %s\n", e.what());
-        return 4;
+    } catch (...) {
+        const api::Problem p = api::problem_of(std::current_exception());
+        if (api::is_cancellation(p)) {
+            std::fprintf(stderr, "meshd-cli: stopped by the timeout\n");
+            return 5;
+        }
+        std::fprintf(stderr, "%s\n", p.to_json().c_str());
+        return p.status == 400 ? 2 : (p.status >= 500 ? 4 : 3);
     }
 }

@@ -8,7 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "meshd/core/boundary.hpp"
+#include "boundary/boundary.hpp"
+#include "geometry/curve.hpp"
 #include "meshd/core/errors.hpp"
 
 using namespace meshd::core;

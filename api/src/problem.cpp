@@ -76,4 +76,30 @@ Problem problem_from(const core::GeometryError& e) {
     return p;
 }
 
+namespace {
+constexpr const char* kCancelledType = "/v1/problems/cancelled";
+}  // namespace
+
+Problem problem_of(std::exception_ptr error) {
+    try {
+        std::rethrow_exception(error);
+    } catch (const RequestError& e) {
+        return e.problem();
+    } catch (const core::GeometryError& e) {
+        return problem_from(e);
+    } catch (const core::Cancelled&) {
+        return Problem{503, kCancelledType, "Cancelled", "the mesh was cancelled before it was finished", ""};
+    } catch (const std::exception& e) {
+        return Problem{500, "/v1/problems/internal", "Internal error",
+                       std::string("meshd failed on this request (a bug; please report it with the request): ") +
+                           e.what(),
+                       ""};
+    } catch (...) {
+        return Problem{500, "/v1/problems/internal", "Internal error",
+                       "meshd failed on this request (a bug; please report it with the request)", ""};
+    }
+}
+
+bool is_cancellation(const Problem& p) { return p.type == kCancelledType; }
+
 }  // namespace meshd::api

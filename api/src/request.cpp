@@ -309,10 +309,4 @@ MeshRequest parse_request(std::string_view body) {
     return r;
 }
 
-core::MeshResult run_request(const MeshRequest& request, core::Observer* observer) {
-    const core::Domain domain = core::build_domain(request.geometry);
-    core::SizeField rho(request.density, domain);
-    return core::generate_mesh(domain, rho, request.options, observer);
-}
-
 }  // namespace meshd::api

@@ -89,6 +89,12 @@ const char* content_type(Format f) {
     return "application/octet-stream";
 }
 
+size_t result_bytes(const core::MeshResult& r) {
+    const core::Mesh& m = r.mesh;
+    return m.point_count() * (3 * sizeof(double) + sizeof(core::PointKind) + sizeof(core::CurveId) + sizeof(double)) +
+           m.triangles.size() * sizeof(core::Triangle) + m.edges.size() * sizeof(core::MeshEdge) + 4096;
+}
+
 std::string metrics_json(const MeshResult& r) {
     const auto& q = r.quality;
     nlohmann::ordered_json j;

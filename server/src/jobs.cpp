@@ -5,7 +5,7 @@
 #include <fstream>
 #include <random>
 
-#include "meshd/core/errors.hpp"
+#include "meshd/api/writers.hpp"
 
 namespace meshd::server {
 
@@ -47,11 +47,6 @@ private:
     bool timed_out_ = false;
 };
 
-size_t result_size(const core::MeshResult& r) {
-    return r.mesh.point_count() * (2 * sizeof(double) + sizeof(core::PointKind) + sizeof(double)) +
-           r.mesh.triangles.size() * sizeof(core::Triangle) + r.mesh.edges.size() * sizeof(core::MeshEdge) + 4096;
-}
-
 }  // namespace
 
 JobManager::JobManager(const Config& config, Metrics& metrics) : config_(config), metrics_(metrics) {
@@ -77,6 +72,11 @@ std::string JobManager::new_id() {
 
 std::shared_ptr<Job> JobManager::submit(api::MeshRequest request) {
     auto job = std::make_shared<Job>();
+    // The server's point limit, unless the request asks for fewer.
+    const size_t cap = config_.max_points;
+    size_t& asked = request.options.max_points;
+    job->server_point_limit = asked == 0 || asked > cap;
+    asked = job->server_point_limit ? cap : asked;
     job->request = std::move(request);
     job->submitted = std::chrono::system_clock::now();
     {
@@ -187,44 +187,39 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
     std::shared_ptr<const core::MeshResult> result;
     std::optional<api::Problem> error;
     JobStatus status = JobStatus::Succeeded;
-    try {
-        if (job->cancel) throw core::Cancelled();
-        api::MeshRequest req = job->request;
-        const size_t cap = config_.max_points;
-        req.options.max_points = req.options.max_points ? std::min(req.options.max_points, cap) : cap;
-        result = std::make_shared<const core::MeshResult>(api::run_request(req, &obs));
-    } catch (const api::RequestError& e) {
+    if (job->cancel) status = JobStatus::Cancelled;
+    else try {
+        const api::MeshRequest& req = job->request;
+        result = std::make_shared<const core::MeshResult>(
+            core::generate_mesh(req.geometry, req.density, req.options, &obs));
+    } catch (...) {
+        api::Problem p = api::problem_of(std::current_exception());
         status = JobStatus::Failed;
-        error = e.problem();
-    } catch (const core::GeometryError& e) {
-        status = JobStatus::Failed;
-        error = api::problem_from(e);
-        if (error->status == 413 && job->request.options.max_points == 0) {
-            error->detail += " (the server's limit is " + std::to_string(config_.max_points) + " points)";
-        }
-    } catch (const core::Cancelled&) {
-        if (obs.timed_out()) {
-            status = JobStatus::Failed;
-            error = api::Problem{422, "/v1/problems/timeout", "Time limit exceeded",
-                                 "the mesh was not finished within " + std::to_string(limit) + " s",
-                                 job->request.timeout_s ? "/options/timeout_s" : ""};
+        if (api::is_cancellation(p)) {
+            if (obs.timed_out())
+                error = api::Problem{422, "/v1/problems/timeout", "Time limit exceeded",
+                                     "the mesh was not finished within " + std::to_string(limit) + " s",
+                                     job->request.timeout_s ? "/options/timeout_s" : ""};
+            else
+                status = JobStatus::Cancelled;
         } else {
-            status = JobStatus::Cancelled;
+            if (p.status == 413 && job->server_point_limit)
+                p.detail += " (the server's limit is " + std::to_string(config_.max_points) + " points)";
+            if (p.status == 500) spdlog::error("job {} internal error: {}", job->id, p.detail);
+            error = std::move(p);
         }
-    } catch (const std::exception& e) {
-        status = JobStatus::Failed;
-        error = api::Problem{500, "/v1/problems/internal", "Internal error",
-                             std::string("meshd failed on this request (a bug; please report it with the request): ") + e.what(), ""};
-        spdlog::error("job {} internal error: {}", job->id, e.what());
     }
+    job->request = {};  // the worker is done with it; the job record may live a while
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const size_t bytes = result ? result_size(*result) : 0;
+    const size_t bytes = result ? api::result_bytes(*result) : 0;
+    nlohmann::ordered_json metrics = result ? nlohmann::ordered_json::parse(api::metrics_json(*result)) : nullptr;
     {
         std::lock_guard<std::mutex> lock(job->m);
         job->status = status;
         job->stage = to_string(status);
         job->progress = status == JobStatus::Succeeded ? 1.0 : job->progress;
         job->result = result;
+        job->metrics = std::move(metrics);
         job->error = error;
         job->result_bytes = bytes;
         job->finished = std::chrono::system_clock::now();

@@ -132,7 +132,7 @@ json job_json(const Job& j) {
     o["submitted_at"] = rfc3339(j.submitted);
     if (j.status != JobStatus::Queued && j.started.time_since_epoch().count()) o["started_at"] = rfc3339(j.started);
     if (j.finished_locked()) o["finished_at"] = rfc3339(j.finished);
-    if (j.status == JobStatus::Succeeded && j.result) o["metrics"] = json::parse(api::metrics_json(*j.result));
+    if (j.status == JobStatus::Succeeded && j.result) o["metrics"] = j.metrics;
     if (j.status == JobStatus::Succeeded && j.expired) o["expired"] = true;
     if (j.error) o["error"] = json::parse(j.error->to_json());
     return o;

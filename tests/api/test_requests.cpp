@@ -24,12 +24,10 @@ namespace {
 api::Problem answer(const std::string& body) {
     try {
         const api::MeshRequest r = api::parse_request(body);
-        api::run_request(r);
+        core::generate_mesh(r.geometry, r.density, r.options);
         return {200, "", "", "", ""};
-    } catch (const api::RequestError& e) {
-        return e.problem();
-    } catch (const core::GeometryError& e) {
-        return api::problem_from(e);
+    } catch (...) {
+        return api::problem_of(std::current_exception());
     }
 }
 
@@ -70,7 +68,7 @@ TEST(Request, ReversedCurvesAndOptions) {
     EXPECT_EQ(r.options.max_points, 5000u);
     EXPECT_EQ(r.timeout_s, 2.5);
     EXPECT_EQ(r.density.interior, core::InteriorMode::Interpolate);
-    const core::MeshResult m = api::run_request(r);
+    const core::MeshResult m = core::generate_mesh(r.geometry, r.density, r.options);
     EXPECT_GT(m.mesh.triangles.size(), 0u);
 }
 

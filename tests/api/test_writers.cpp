@@ -26,7 +26,8 @@ const core::MeshResult& sample() {
                        "wake": {"type": "line", "from": "M", "to": "W", "tag": "wake line"}},
             "loops": [["b1", "b2", "right", "top", "left"]], "embedded": ["wake"]},
             "density": {"size": "0.05 + 0.05*x"}})";
-        return api::run_request(api::parse_request(body));
+        const api::MeshRequest req = api::parse_request(body);
+        return core::generate_mesh(req.geometry, req.density, req.options);
     }();
     return r;
 }

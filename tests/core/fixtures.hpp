@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "meshd/core/domain.hpp"
-#include "meshd/core/triangulation.hpp"
+#include "triangulation/triangulation.hpp"
 
 namespace meshd::test {
 

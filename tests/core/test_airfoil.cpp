@@ -7,7 +7,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "meshd/core/curve.hpp"
+#include "geometry/curve.hpp"
 #include "meshd/core/errors.hpp"
 
 using namespace meshd::core;

@@ -5,7 +5,8 @@
 #include <cmath>
 
 #include "fixtures.hpp"
-#include "meshd/core/boundary.hpp"
+#include "boundary/boundary.hpp"
+#include "geometry/curve.hpp"
 #include "meshd/core/errors.hpp"
 
 using namespace meshd::core;

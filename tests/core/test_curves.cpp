@@ -6,8 +6,8 @@
 #include <numbers>
 #include <random>
 
-#include "meshd/core/bspline.hpp"
-#include "meshd/core/curve.hpp"
+#include "geometry/bspline.hpp"
+#include "geometry/curve.hpp"
 #include "meshd/core/errors.hpp"
 
 using namespace meshd::core;

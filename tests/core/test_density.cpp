@@ -9,8 +9,8 @@
 #include <random>
 
 #include "fixtures.hpp"
-#include "meshd/core/boundary.hpp"
-#include "meshd/core/density.hpp"
+#include "boundary/boundary.hpp"
+#include "density/size_field.hpp"
 #include "meshd/core/errors.hpp"
 
 using namespace meshd::core;

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "meshd/core/predicates.hpp"
+#include "kernel/predicates.hpp"
 
 using meshd::core::orient2d;
 using meshd::core::Orientation;

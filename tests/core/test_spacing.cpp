@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "meshd/core/errors.hpp"
-#include "meshd/core/spacing.hpp"
+#include "boundary/spacing.hpp"
 
 using namespace meshd::core;
 

@@ -7,8 +7,8 @@
 #include <random>
 
 #include "meshd/core/mesh.hpp"
-#include "meshd/core/predicates.hpp"
-#include "meshd/core/triangulation.hpp"
+#include "kernel/predicates.hpp"
+#include "triangulation/triangulation.hpp"
 #include "fixtures.hpp"
 
 using namespace meshd::core;
@@ -26,7 +26,7 @@ Mesh mesh_of(const std::vector<Vec2>& pts, const std::vector<std::vector<std::ui
         m.kind.push_back(PointKind::Interior);
     }
     m.triangles = r.triangles;
-    for (const Constraint& c : cons) m.edges.push_back({c.a, c.b, 0, !c.loop});
+    for (const Constraint& c : cons) m.edges.push_back({c.a, c.b, 0, kNoCurve, !c.loop});
     m.holes = loops.size() - 1;
     return m;
 }
@@ -167,7 +167,7 @@ TEST(Delaunay, ConstraintThroughACollinearPointIsSplit) {
     const auto r = triangulate_delaunay(pts, cons);
     Mesh m = mesh_of(pts, loops, r, cons);
     m.edges.pop_back();
-    m.edges.push_back({4, 6, 0, true});
-    m.edges.push_back({6, 5, 0, true});
+    m.edges.push_back({4, 6, 0, kNoCurve, true});
+    m.edges.push_back({6, 5, 0, kNoCurve, true});
     expect_valid(m);
 }

@@ -3,6 +3,7 @@
 /// (400), its size (413), its content type (415), a domain or density that is not valid
 /// (422). Each carries the JSON pointer of the culprit when there is one.
 
+#include <exception>
 #include <stdexcept>
 #include <string>
 
@@ -37,6 +38,12 @@ RequestError bad_request(std::string kind, std::string title, std::string detail
 /// The 422 (or 413 for too many points) problem for a core error, with the pointer of the
 /// request field that holds the named curve, loop, point or density entry.
 Problem problem_from(const core::GeometryError& e);
+
+/// The problem for whatever meshing a request threw: a RequestError's own problem, a
+/// GeometryError's (problem_from), Cancelled as the "cancelled" problem (is_cancellation),
+/// anything else a 500 that asks for the request to be reported (a bug).
+Problem problem_of(std::exception_ptr error);
+bool is_cancellation(const Problem& p);
 
 /// A JSON pointer token (RFC 6901): "~" -> "~0", "/" -> "~1".
 std::string pointer_token(const std::string& s);

@@ -6,8 +6,6 @@
 #include <optional>
 #include <string_view>
 
-#include "meshd/core/density.hpp"
-#include "meshd/core/domain.hpp"
 #include "meshd/core/mesher.hpp"
 
 namespace meshd::api {
@@ -24,10 +22,5 @@ inline constexpr int kMaxJsonDepth = 64;
 
 /// Parses and checks the request's shape. Throws RequestError (400).
 MeshRequest parse_request(std::string_view body);
-
-/// From a parsed request to the finished mesh: builds the domain and the density, refuses
-/// what is not supported, meshes. The one path of the server and the CLI. Throws
-/// RequestError, core::GeometryError (see problem_from), core::Cancelled.
-core::MeshResult run_request(const MeshRequest& request, core::Observer* observer = nullptr);
 
 }  // namespace meshd::api

@@ -21,6 +21,9 @@ const char* content_type(Format f);
 /// The metrics object of the JSON response (API.md), as JSON text.
 std::string metrics_json(const core::MeshResult& r);
 
+/// Memory a finished result holds (its arrays, roughly), for the server's result budget.
+size_t result_bytes(const core::MeshResult& r);
+
 void write_mesh(Format f, const core::MeshResult& r, std::ostream& os);
 
 void write_json(const core::MeshResult& r, std::ostream& os);

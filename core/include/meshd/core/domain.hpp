@@ -17,9 +17,48 @@
 #include <variant>
 #include <vector>
 
-#include "meshd/core/curve.hpp"
+#include "meshd/core/vec2.hpp"
 
 namespace meshd::core {
+
+class Curve;  // the curve interface: src/geometry/curve.hpp
+
+// ---------------------------------------------------------------------------------------
+// The description, as a user writes it.
+
+enum class ArcDirection { Ccw, Cw };
+
+struct AirfoilPlacement {
+    double chord = 1.0;
+    Vec2 leading_edge{0.0, 0.0};
+    /// Angle of attack in degrees: rotation about the leading edge, positive nose up.
+    double angle_deg = 0.0;
+};
+
+enum class TrailingEdge {
+    Closed,  ///< sharp trailing edge (NACA: the closed-edge thickness coefficient)
+    Open,    ///< finite thickness, closed by a straight base line that belongs to the curve
+};
+
+enum class AirfoilSurface { Both, Upper, Lower };
+
+struct NacaSpec {
+    std::string code;  ///< "0012", "2412", "23012", "23112"
+    AirfoilPlacement placement;
+    TrailingEdge trailing_edge = TrailingEdge::Closed;
+    /// Both: the closed contour (trailing edge, upper surface, leading edge, lower surface,
+    /// trailing edge). Upper / Lower: the open curve from the trailing edge to the leading
+    /// edge along that surface (for symmetry-plane domains).
+    AirfoilSurface surface = AirfoilSurface::Both;
+};
+
+struct AirfoilSpec {
+    std::string coordinates;  ///< the text of a Selig or Lednicer .dat file
+    AirfoilPlacement placement;
+    /// Open (default for files): a blunt trailing edge is kept and closed by a short line.
+    /// Closed: a blunt trailing edge is made sharp by blending the gap into the surfaces.
+    TrailingEdge trailing_edge = TrailingEdge::Open;
+};
 
 struct LineShape {};
 struct ArcShape {
@@ -58,9 +97,13 @@ struct DomainSpec {
     std::vector<std::string> embedded;
 };
 
+// ---------------------------------------------------------------------------------------
+// The validated domain.
+
 using PointId = std::uint32_t;
 using CurveId = std::uint32_t;
 using TagId = std::uint32_t;
+inline constexpr CurveId kNoCurve = UINT32_MAX;
 
 struct DomainPoint {
     std::string name;  ///< empty for the unnamed end of a curve given without from/to
@@ -90,6 +133,11 @@ struct DomainLoop {
 
 class Domain {
 public:
+    Domain();
+    Domain(Domain&&) noexcept;
+    Domain& operator=(Domain&&) noexcept;
+    ~Domain();
+
     const std::vector<DomainPoint>& points() const { return points_; }
     const std::vector<DomainCurve>& curves() const { return curves_; }
     /// The outer loop first, then the holes in the order given.

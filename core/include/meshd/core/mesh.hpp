@@ -1,33 +1,67 @@
 #pragma once
-/// The finished mesh: flat arrays that writers consume, and its checker.
+/// The finished mesh: flat arrays that writers consume, its quality figures and its checker.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "meshd/core/domain.hpp"
-#include "meshd/core/triangulation.hpp"
 
 namespace meshd::core {
+
+using VertexId = std::uint32_t;
+inline constexpr VertexId kNoVertex = UINT32_MAX;
+using TriangleId = std::uint32_t;
+inline constexpr TriangleId kNoTriangle = UINT32_MAX;
+
+/* Triangle t stores its vertices counter-clockwise and, for each vertex i, the neighbour
+   across the opposite edge and whether that edge is constrained:
+
+                  v[2]
+                  /  \
+       n[1]      /    \      n[0]
+    (edge v2-v0)/  t   \(edge v1-v2)
+               /        \
+            v[0] ------ v[1]
+                  n[2]
+              (edge v0-v1)
+
+   Edge i of t runs from v[(i+1)%3] to v[(i+2)%3], so t lies on its left. */
+struct Triangle {
+    std::array<VertexId, 3> v;
+    std::array<TriangleId, 3> n;
+    std::uint8_t constrained = 0;  ///< bit i: edge i is a constraint (loop or embedded segment)
+    std::uint8_t boundary = 0;     ///< bit i: edge i is a loop segment (holes stop at it)
+};
+
+/// Bit i of an edge flag byte.
+inline bool edge_bit(std::uint8_t flags, std::uint32_t i) {
+    return ((static_cast<std::uint32_t>(flags) >> i) & 1u) != 0;
+}
 
 enum class PointKind : std::uint8_t {
     Corner,    ///< an end of a curve (a named point)
     Boundary,  ///< on a loop curve
     Embedded,  ///< on an embedded curve
-    Interior,  ///< made by the advancing front (may move in smoothing)
+    Interior,  ///< made by the advancing front or the refinement (may move in smoothing)
 };
 
 struct MeshEdge {
-    std::uint32_t a, b;  ///< loop edges have the domain on their left
+    VertexId a, b;  ///< loop edges have the domain on their left
     TagId tag;
+    CurveId curve;  ///< the domain curve the edge lies on
     bool embedded;
 };
 
 struct Mesh {
     std::vector<double> x, y;
     std::vector<PointKind> kind;
-    /// Counter-clockwise, with neighbours (kNoTriangle across loop edges) and the constraint
-    /// bits of triangulation.hpp.
+    /// The curve a Boundary or Embedded point lies on and its parameter there (the curve's
+    /// own t); kNoCurve and 0 for corners and interior points.
+    std::vector<CurveId> curve;
+    std::vector<double> param;
+    /// Counter-clockwise, with neighbours (kNoTriangle across loop edges) and constraint bits.
     std::vector<Triangle> triangles;
     /// Loop edges in loop order, then embedded edges.
     std::vector<MeshEdge> edges;
@@ -37,14 +71,30 @@ struct Mesh {
     std::vector<double> target_size;
 
     size_t point_count() const { return x.size(); }
-    Vec2 point(std::uint32_t v) const { return {x[v], y[v]}; }
+    Vec2 point(VertexId v) const { return {x[v], y[v]}; }
 };
+
+/// The figures of a mesh, as the service reports them (API.md, "metrics").
+struct QualityMetrics {
+    size_t points = 0, boundary_points = 0, interior_points = 0, triangles = 0;
+    double angle_min = 0, angle_max = 0, angle_mean = 0;  ///< degrees
+    /// Radius ratio 2 r_in / r_circ: 1 for an equilateral triangle.
+    double quality_min = 0, quality_mean = 0;
+    std::array<std::uint64_t, 10> quality_histogram{};  ///< 10 equal bins over [0, 1]
+    /// Edge length / rho at the edge's midpoint, over all edges.
+    double size_ratio_mean = 0;
+    double size_ratio_within_sqrt2 = 0;  ///< fraction with a ratio in [1/sqrt 2, sqrt 2]
+};
+
+/// Radius ratio 2 r_in / r_circ of a triangle: 1 when equilateral, 0 when degenerate.
+double radius_ratio(Vec2 a, Vec2 b, Vec2 c);
 
 /// Checks the invariants every mesh must satisfy and returns what is violated (empty when
 /// all hold): indices in range, counter-clockwise triangles of positive area (exact),
 /// symmetric adjacency, every edge of `edges` present (and only those edges without a
 /// neighbour), Euler characteristic V - E + F = 1 - holes, and empty circumcircles (exact
-/// in-circle) across every unconstrained edge when `delaunay` is set.
+/// in-circle) across every unconstrained edge when `delaunay` is set. The tests call it on
+/// every mesh they make.
 std::vector<std::string> check_mesh(const Mesh& mesh, bool delaunay = true);
 
 }  // namespace meshd::core

@@ -19,6 +19,8 @@
 
 #include "meshd/api/problem.hpp"
 #include "meshd/api/request.hpp"
+#include <nlohmann/json.hpp>
+
 #include "meshd/core/mesher.hpp"
 #include "meshd/server/config.hpp"
 #include "meshd/server/metrics.hpp"
@@ -30,7 +32,10 @@ const char* to_string(JobStatus s);
 
 struct Job {
     std::string id;
+    /// With the server's point limit applied; released when the job has run.
     api::MeshRequest request;
+    /// The point limit in force is the server's, not one the request asked for.
+    bool server_point_limit = false;
     std::chrono::system_clock::time_point submitted, started, finished;
 
     // Written by the worker, read by HTTP threads: under `m`.
@@ -40,6 +45,8 @@ struct Job {
     std::string stage = "queued";
     double progress = 0.0;
     std::shared_ptr<const core::MeshResult> result;
+    /// The result's metrics object, rendered once when the job ends.
+    nlohmann::ordered_json metrics;
     std::optional<api::Problem> error;
     bool expired = false;  ///< result dropped (memory or age); the job record remains a while
     size_t result_bytes = 0;

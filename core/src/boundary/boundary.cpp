@@ -1,0 +1,234 @@
+// Graded points on the curves of a domain (paper, section 3); see boundary.hpp.
+
+#include "boundary/boundary.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/curve.hpp"
+#include "kernel/crossings.hpp"
+#include "meshd/core/errors.hpp"
+#include "boundary/spacing.hpp"
+
+namespace meshd::core {
+
+namespace {
+
+// Places the points of one curve after another, sharing the domain points at curve ends.
+class CurveSampler {
+public:
+    CurveSampler(const Domain& domain, const SizeField& rho, const BoundaryOptions& opt)
+        : domain_(domain), rho_(rho), opt_(opt), domain_vertex_(domain.points().size(), kNoVertex) {
+        d_.curve_vertices.resize(domain.curves().size());
+    }
+
+    VertexId add_vertex(Vec2 p, CurveId c, double t) {
+        d_.x.push_back(p.x);
+        d_.y.push_back(p.y);
+        d_.curve.push_back(c);
+        d_.param.push_back(t);
+        if (opt_.max_points && d_.x.size() > opt_.max_points)
+            throw GeometryError(GeometryErrorKind::TooManyPoints,
+                                "the boundary alone needs more than " + std::to_string(opt_.max_points) +
+                                    " points");
+        return static_cast<VertexId>(d_.x.size() - 1);
+    }
+
+    VertexId domain_vertex(PointId p) {
+        if (domain_vertex_[p] == kNoVertex) domain_vertex_[p] = add_vertex(domain_.points()[p].position, kNoCurve, 0.0);
+        return domain_vertex_[p];
+    }
+
+    void discretise(CurveId c) {
+        const DomainCurve& dc = domain_.curves()[c];
+        const Curve& g = *dc.geometry;
+        auto param = make_parametrisation(g, opt_.spline_spacing);
+        std::vector<VertexId>& out = d_.curve_vertices[c];
+        out.push_back(domain_vertex(dc.from));
+        std::vector<double> cuts{g.t_begin()};
+        for (double t : g.corners()) cuts.push_back(t);
+        cuts.push_back(g.t_end());
+        const size_t limit = opt_.max_points ? 4 * opt_.max_points + 64 : size_t{1} << 31;
+        for (size_t k = 0; k + 1 < cuts.size(); ++k) {
+            const double sa = param->spacing_at(cuts[k]);
+            const double sb = k + 2 == cuts.size() ? param->length() : param->spacing_at(cuts[k + 1]);
+            const double len = sb - sa;
+            if (len > 0.0) {
+                const DensityProfile profile = sample_density(
+                    len, [&](double s) { return rho_.on_curve(c, g.point(param->param_at(sa + s))); },
+                    rho_.min_size(), limit);
+                const std::vector<double> stations = graded_stations(profile);
+                for (size_t i = 1; i + 1 < stations.size(); ++i) {
+                    const double t = param->param_at(sa + stations[i]);
+                    out.push_back(add_vertex(g.point(t), c, t));
+                }
+            }
+            if (k + 2 < cuts.size()) out.push_back(add_vertex(g.point(cuts[k + 1]), c, cuts[k + 1]));
+        }
+        out.push_back(domain_vertex(dc.to));
+    }
+
+    Discretisation finish() && { return std::move(d_); }
+    Discretisation& result() { return d_; }
+
+private:
+    const Domain& domain_;
+    const SizeField& rho_;
+    const BoundaryOptions& opt_;
+    std::vector<VertexId> domain_vertex_;
+    Discretisation d_;
+};
+
+}  // namespace
+
+Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
+                                   const BoundaryOptions& options, Observer* observer) {
+    CurveSampler b(domain, rho, options);
+    std::vector<CurveId> order;
+    for (const auto& l : domain.loops())
+        for (const auto& u : l.items) order.push_back(u.curve);
+    for (CurveId c : domain.embedded()) order.push_back(c);
+    // Curves in a stable order (by id) so that vertex numbering does not depend on loops.
+    std::vector<CurveId> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    double done = 0.0, total = 0.0;
+    for (CurveId c : sorted) total += domain.curves()[c].length;
+    for (CurveId c : sorted) {
+        if (observer) {
+            if (observer->should_stop()) throw Cancelled();
+            observer->on_progress(Stage::Boundary, total > 0.0 ? done / total : 0.0);
+        }
+        b.discretise(c);
+        done += domain.curves()[c].length;
+    }
+    Discretisation& d = b.result();
+    for (const auto& l : domain.loops()) {
+        std::vector<VertexId> cycle;
+        for (const auto& u : l.items) {
+            const auto& v = d.curve_vertices[u.curve];
+            if (u.reversed) cycle.insert(cycle.end(), v.rbegin(), v.rend() - 1);
+            else cycle.insert(cycle.end(), v.begin(), v.end() - 1);
+            // segments follow below
+        }
+        d.loops.push_back(std::move(cycle));
+    }
+    for (size_t li = 0; li < domain.loops().size(); ++li) {
+        for (const auto& u : domain.loops()[li].items) {
+            const auto& v = d.curve_vertices[u.curve];
+            for (size_t i = 0; i + 1 < v.size(); ++i) {
+                if (u.reversed) d.segments.push_back({v[v.size() - 1 - i], v[v.size() - 2 - i], u.curve});
+                else d.segments.push_back({v[i], v[i + 1], u.curve});
+            }
+        }
+    }
+    d.loop_segment_count = d.segments.size();
+    for (CurveId c : domain.embedded()) {
+        d.embedded.push_back(d.curve_vertices[c]);
+        const auto& v = d.curve_vertices[c];
+        for (size_t i = 0; i + 1 < v.size(); ++i) d.segments.push_back({v[i], v[i + 1], c});
+    }
+
+    // The chords of nearby curves can cross even when the curves do not (too coarse a
+    // density across a narrow gap): the mesher needs a simple polygon, so check.
+    detail::SegmentSoup soup;
+    soup.points.reserve(d.size());
+    for (VertexId v = 0; v < d.size(); ++v) soup.points.push_back(d.point(v));
+    soup.segments.reserve(d.segments.size());
+    for (const auto& s : d.segments) soup.segments.push_back({s.a, s.b});
+    if (auto hit = detail::find_crossing(soup)) {
+        const auto& s1 = d.segments[hit->first];
+        const auto& s2 = d.segments[hit->second];
+        const std::string& n1 = domain.curves()[s1.curve].name;
+        const std::string& n2 = domain.curves()[s2.curve].name;
+        const Vec2 at = d.point(s1.a);
+        throw GeometryError(GeometryErrorKind::DiscretisationCrosses,
+                            "the discretised curves \"" + n1 + "\" and \"" + n2 +
+                                "\" cross near (" + std::to_string(at.x) + ", " + std::to_string(at.y) +
+                                "): the density is too coarse for the gap between them",
+                            {Subject::curve(n1), Subject::curve(n2)});
+    }
+    if (observer) observer->on_progress(Stage::Boundary, 1.0);
+    return std::move(b).finish();
+}
+
+BoundaryTriangulation triangulate_boundary(const Discretisation& d) {
+    BoundaryTriangulation w;
+    w.points = points_of(d);
+    w.triangles = triangulate_delaunay(w.points, constraints_of(d)).triangles;
+    return w;
+}
+
+std::vector<Vec2> points_of(const Discretisation& d) {
+    std::vector<Vec2> pts;
+    pts.reserve(d.size());
+    for (VertexId v = 0; v < d.size(); ++v) pts.push_back(d.point(v));
+    return pts;
+}
+
+std::vector<Constraint> constraints_of(const Discretisation& d) {
+    std::vector<Constraint> cons;
+    cons.reserve(d.segments.size());
+    for (size_t i = 0; i < d.segments.size(); ++i)
+        cons.push_back({d.segments[i].a, d.segments[i].b, i < d.loop_segment_count});
+    return cons;
+}
+
+std::vector<double> point_sizes(const Discretisation& d, const SizeField& rho) {
+    std::vector<double> sizes(d.size(), HUGE_VAL);
+    for (const auto& s : d.segments)
+        for (VertexId v : {s.a, s.b})
+            if (d.curve[v] == kNoCurve) sizes[v] = std::fmin(sizes[v], rho.on_curve(s.curve, d.point(v)));
+    for (VertexId v = 0; v < d.size(); ++v)
+        if (d.curve[v] != kNoCurve) sizes[v] = rho.on_curve(d.curve[v], d.point(v));
+    return sizes;
+}
+
+void set_interpolation_sources(SizeField& rho, const Discretisation& d) {
+    std::vector<Vec2> starts;
+    std::vector<double> lengths;
+    starts.reserve(d.segments.size());
+    lengths.reserve(d.segments.size());
+    for (const auto& s : d.segments) {
+        starts.push_back(d.point(s.a));
+        lengths.push_back(distance(d.point(s.a), d.point(s.b)));
+    }
+    rho.set_boundary_segments(std::move(starts), std::move(lengths));
+}
+
+namespace {
+
+void accumulate(SpacingStats& st, double ratio) {
+    const double e = std::fabs(ratio - 1.0);
+    if (st.segments == 0) st.min_ratio = st.max_ratio = ratio;
+    ++st.segments;
+    st.mean_abs_error += e;
+    st.rms_error += e * e;
+    st.max_abs_error = std::fmax(st.max_abs_error, e);
+    st.min_ratio = std::fmin(st.min_ratio, ratio);
+    st.max_ratio = std::fmax(st.max_ratio, ratio);
+}
+
+void finalise(SpacingStats& st) {
+    if (st.segments == 0) return;
+    st.mean_abs_error /= static_cast<double>(st.segments);
+    st.rms_error = std::sqrt(st.rms_error / static_cast<double>(st.segments));
+}
+
+}  // namespace
+
+SpacingReport spacing_report(const Domain& domain, const SizeField& rho, const Discretisation& d) {
+    SpacingReport r;
+    r.per_curve.resize(domain.curves().size());
+    for (const auto& s : d.segments) {
+        const Vec2 a = d.point(s.a), b = d.point(s.b);
+        const double target = 0.5 * (rho.on_curve(s.curve, a) + rho.on_curve(s.curve, b));
+        const double ratio = distance(a, b) / target;
+        accumulate(r.per_curve[s.curve], ratio);
+        accumulate(r.overall, ratio);
+    }
+    for (auto& st : r.per_curve) finalise(st);
+    finalise(r.overall);
+    return r;
+}
+
+}  // namespace meshd::core

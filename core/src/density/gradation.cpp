@@ -1,0 +1,60 @@
+#include "density/gradation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "kernel/kdtree.hpp"
+#include "meshd/core/errors.hpp"
+
+namespace meshd::core {
+
+GradationField::GradationField(std::vector<Vec2> sources, std::vector<double> sizes, double ratio)
+    : slope_(ratio - 1.0) {
+    MESHD_INTERNAL_CHECK(sources.size() == sizes.size() && !sources.empty(), "gradation needs sources");
+    const detail::KdLayout tree(sources);
+    pts_.reserve(sources.size());
+    h_.reserve(sources.size());
+    for (auto i : tree.order) {
+        pts_.push_back(sources[i]);
+        h_.push_back(sizes[i]);
+    }
+    nodes_.reserve(tree.nodes.size());
+    for (const detail::KdNode& k : tree.nodes) {
+        Node n{k.box, HUGE_VAL, k.begin, k.end, k.left, k.right};
+        for (std::uint32_t i = k.begin; i < k.end; ++i) n.hmin = std::fmin(n.hmin, h_[i]);
+        nodes_.push_back(n);
+    }
+}
+
+double GradationField::operator()(Vec2 x) const {
+    double best = HUGE_VAL;
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& n = nodes_[stack[--top]];
+        const double dx = std::fmax(0.0, std::fmax(n.box.lo.x - x.x, x.x - n.box.hi.x));
+        const double dy = std::fmax(0.0, std::fmax(n.box.lo.y - x.y, x.y - n.box.hi.y));
+        if (n.hmin + slope_ * std::sqrt(dx * dx + dy * dy) >= best) continue;
+        if (n.left == 0) {
+            for (std::uint32_t i = n.begin; i < n.end; ++i) best = std::fmin(best, h_[i] + slope_ * distance(x, pts_[i]));
+            continue;
+        }
+        // Nearer child last, so it is taken first.
+        const Node& l = nodes_[n.left];
+        const Node& r = nodes_[n.right];
+        const double dl = distance(x, 0.5 * (l.box.lo + l.box.hi));
+        const double dr = distance(x, 0.5 * (r.box.lo + r.box.hi));
+        if (dl < dr) {
+            stack[top++] = n.right;
+            stack[top++] = n.left;
+        } else {
+            stack[top++] = n.left;
+            stack[top++] = n.right;
+        }
+    }
+    return best;
+}
+
+}  // namespace meshd::core

@@ -1,0 +1,113 @@
+// Treecode for eq. (6.1); the error analysis is in idw.hpp.
+
+#include "density/inverse_distance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "kernel/kdtree.hpp"
+#include "meshd/core/errors.hpp"
+
+namespace meshd::core {
+
+namespace {
+
+double delta_of(double theta) {
+    return theta * theta * (1.0 + theta) / ((1.0 - theta) * (1.0 - theta) * (1.0 - theta));
+}
+
+}  // namespace
+
+InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector<double> values,
+                                           double tolerance)
+    : a_(std::move(starts)), rho_(std::move(values)), tolerance_(tolerance) {
+    MESHD_INTERNAL_CHECK(a_.size() == rho_.size() && !a_.empty(), "eq. 6.1 needs sources");
+    MESHD_INTERNAL_CHECK(tolerance > 0.0 && tolerance < 1.0, "tolerance out of range");
+    // Largest theta whose per-sum bound keeps the ratio within the tolerance.
+    const double delta_max = tolerance / (2.0 + tolerance);
+    double lo = 0.0, hi = 0.5;
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (delta_of(mid) <= delta_max ? lo : hi) = mid;
+    }
+    theta_ = lo;
+    // The sources in tree order, and the treecode's sums over every node.
+    const detail::KdLayout tree(a_);
+    std::vector<Vec2> a;
+    std::vector<double> r;
+    a.reserve(a_.size());
+    r.reserve(a_.size());
+    for (auto i : tree.order) {
+        a.push_back(a_[i]);
+        r.push_back(rho_[i]);
+    }
+    a_ = std::move(a);
+    rho_ = std::move(r);
+    nodes_.reserve(tree.nodes.size());
+    for (const detail::KdNode& k : tree.nodes) {
+        Node n{};
+        n.begin = k.begin;
+        n.end = k.end;
+        n.left = k.left;
+        n.right = k.right;
+        n.count = static_cast<double>(k.end - k.begin);
+        Vec2 c{0, 0}, cr{0, 0};
+        double rs = 0.0;
+        for (std::uint32_t i = k.begin; i < k.end; ++i) {
+            c += a_[i];
+            cr += rho_[i] * a_[i];
+            rs += rho_[i];
+        }
+        n.c = c / n.count;
+        n.c_rho = cr / rs;
+        n.rho_sum = rs;
+        for (std::uint32_t i = k.begin; i < k.end; ++i) {
+            n.r = std::fmax(n.r, distance(n.c, a_[i]));
+            n.r_rho = std::fmax(n.r_rho, distance(n.c_rho, a_[i]));
+        }
+        nodes_.push_back(n);
+    }
+}
+
+double InverseDistanceField::operator()(Vec2 p) const {
+    double num = 0.0, den = 0.0;
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& n = nodes_[stack[--top]];
+        const double d = distance(p, n.c);
+        const double dr = distance(p, n.c_rho);
+        if (n.r <= theta_ * d && n.r_rho <= theta_ * dr) {
+            den += n.count / d;
+            num += n.rho_sum / dr;
+            continue;
+        }
+        if (n.left == 0) {
+            for (std::uint32_t i = n.begin; i < n.end; ++i) {
+                const double di = distance(p, a_[i]);
+                if (di == 0.0) return rho_[i];
+                den += 1.0 / di;
+                num += rho_[i] / di;
+            }
+            continue;
+        }
+        stack[top++] = n.left;
+        stack[top++] = n.right;
+    }
+    return num / den;
+}
+
+double InverseDistanceField::exact(Vec2 p) const {
+    double num = 0.0, den = 0.0;
+    for (size_t i = 0; i < a_.size(); ++i) {
+        const double di = distance(p, a_[i]);
+        if (di == 0.0) return rho_[i];
+        den += 1.0 / di;
+        num += rho_[i] / di;
+    }
+    return num / den;
+}
+
+}  // namespace meshd::core

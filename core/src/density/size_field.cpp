@@ -1,0 +1,152 @@
+// Density: the per-curve table, eq. 6.1 inside, clamps (expressions: expression.cpp).
+
+#include "density/size_field.hpp"
+
+#include <cmath>
+
+#include "meshd/core/errors.hpp"
+#include "kernel/tolerances.hpp"
+
+namespace meshd::core {
+
+// ---------------------------------------------------------------------------------------
+// SizeField
+
+namespace {
+
+std::string fmt_point(Vec2 p) {
+    return "(" + std::to_string(p.x) + ", " + std::to_string(p.y) + ")";
+}
+
+}  // namespace
+
+SizeField::SizeField(const DensitySpec& spec, const Domain& domain) {
+    using K = GeometryErrorKind;
+    auto make_source = [&](const ScalarSpec& s, Subject subject) {
+        Source src;
+        src.subject = subject;
+        if (const double* v = std::get_if<double>(&s)) {
+            if (!std::isfinite(*v) || *v <= 0.0)
+                throw GeometryError(K::DensityInvalid, "density must be finite and positive",
+                                    {std::move(subject)});
+            src.constant = *v;
+        } else {
+            try {
+                src.expr.emplace(std::get<std::string>(s));
+            } catch (GeometryError& e) {
+                throw GeometryError(e.kind(), e.what(), {std::move(subject)});
+            }
+        }
+        sources_.push_back(std::move(src));
+        return sources_.size() - 1;
+    };
+    if (spec.size) size_source_ = make_source(*spec.size, Subject::density("size"));
+
+    // Per-curve table: names first, then tags.
+    curve_source_.assign(domain.curves().size(), std::nullopt);
+    std::vector<bool> by_name(domain.curves().size(), false);
+    for (const auto& [key, value] : spec.curves) {
+        const size_t src = make_source(value, Subject::density("curves", {key}));
+        bool matched = false;
+        if (auto c = domain.find_curve(key)) {
+            curve_source_[*c] = src;
+            by_name[*c] = true;
+            matched = true;
+        }
+        for (CurveId c = 0; c < domain.curves().size(); ++c) {
+            if (domain.tags()[domain.curves()[c].tag] == key) {
+                matched = true;
+                if (!by_name[c]) curve_source_[c] = src;
+            }
+        }
+        if (!matched)
+            throw GeometryError(K::DensityMissing,
+                                "density.curves names \"" + key + "\", which is neither a curve nor a tag",
+                                {Subject::density("curves", {key})});
+    }
+
+    // Interior.
+    InteriorMode mode = spec.interior;
+    if (mode == InteriorMode::Default) mode = size_source_ ? InteriorMode::Expression : InteriorMode::Interpolate;
+    if (mode == InteriorMode::Expression) {
+        if (spec.interior_expression) {
+            interior_source_ = make_source(*spec.interior_expression, Subject::density("interior"));
+        } else if (size_source_) {
+            interior_source_ = size_source_;
+        } else {
+            throw GeometryError(K::DensityMissing, "no density inside the domain: give size or interior",
+                                {Subject::density("interior")});
+        }
+    }
+    interpolate_ = mode == InteriorMode::Interpolate;
+
+    // Every used curve needs a density.
+    std::vector<bool> used(domain.curves().size(), false);
+    for (const auto& l : domain.loops())
+        for (const auto& u : l.items) used[u.curve] = true;
+    for (CurveId c : domain.embedded()) used[c] = true;
+    for (CurveId c = 0; c < domain.curves().size(); ++c) {
+        if (!curve_source_[c]) curve_source_[c] = size_source_;
+        if (used[c] && !curve_source_[c])
+            throw GeometryError(K::DensityMissing,
+                                "no density for curve \"" + domain.curves()[c].name +
+                                    "\": give density.size or an entry in density.curves",
+                                {Subject::density("curves"), Subject::curve(domain.curves()[c].name)});
+    }
+
+    const double extent = domain.extent();
+    min_ = spec.min.value_or(tol::kDefaultMinSize * extent);
+    max_ = spec.max.value_or(HUGE_VAL);
+    if (spec.min && !(std::isfinite(*spec.min) && *spec.min > 0.0))
+        throw GeometryError(K::DensityInvalid, "density.min must be finite and positive",
+                            {Subject::density("min")});
+    if (spec.max && !(*spec.max > 0.0) )
+        throw GeometryError(K::DensityInvalid, "density.max must be positive", {Subject::density("max")});
+    if (max_ < min_)
+        throw GeometryError(K::DensityInvalid, "density.max is below density.min", {Subject::density("max")});
+    if (spec.gradation) {
+        if (!(std::isfinite(*spec.gradation) && *spec.gradation > 1.0))
+            throw GeometryError(K::DensityInvalid, "density.gradation must be a finite number above 1",
+                                {Subject::density("gradation")});
+        gradation_ = spec.gradation;
+    }
+}
+
+double SizeField::eval(const Source& s, Vec2 p) const {
+    const double v = s.constant ? *s.constant : (*s.expr)(p.x, p.y);
+    if (!std::isfinite(v) || v <= 0.0) {
+        std::string what = std::isfinite(v) ? (v == 0.0 ? "zero" : "negative (" + std::to_string(v) + ")")
+                                            : "not finite";
+        throw GeometryError(GeometryErrorKind::DensityInvalid,
+                            "density is " + what + " at " + fmt_point(p), {s.subject})
+            .at(p);
+    }
+    return std::fmin(std::fmax(v, min_), max_);
+}
+
+double SizeField::on_curve(CurveId c, Vec2 p) const {
+    const double h = eval(sources_[*curve_source_[c]], p);
+    return graded_ ? std::fmax(std::fmin(h, (*graded_)(p)), min_) : h;
+}
+
+double SizeField::interior(Vec2 p) const {
+    double h;
+    if (interpolate_) {
+        MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
+        h = std::fmin(std::fmax((*idw_)(p), min_), max_);
+    } else {
+        h = eval(sources_[*interior_source_], p);
+    }
+    return graded_ ? std::fmax(std::fmin(h, (*graded_)(p)), min_) : h;
+}
+
+void SizeField::set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes) {
+    MESHD_INTERNAL_CHECK(gradation_.has_value(), "gradation sources without a gradation");
+    graded_ = std::make_unique<GradationField>(std::move(points), std::move(sizes), *gradation_);
+}
+
+void SizeField::set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths) {
+    idw_ = std::make_unique<InverseDistanceField>(std::move(starts), std::move(lengths));
+}
+
+}  // namespace meshd::core

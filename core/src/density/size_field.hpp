@@ -1,0 +1,65 @@
+#pragma once
+// rho over a domain, as every stage queries it: the request's density (expressions per
+// curve, tag and inside; clamps) completed by the pipeline with the sources of eq. 6.1 and
+// the gradation envelope.
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "density/expression.hpp"
+#include "density/gradation.hpp"
+#include "density/inverse_distance.hpp"
+#include "meshd/core/density.hpp"
+#include "meshd/core/domain.hpp"
+#include "meshd/core/errors.hpp"
+
+namespace meshd::core {
+
+/// rho over a domain. Expressions keep no state, but the pipeline completes the field (eq. 6.1
+/// sources, gradation) as it goes: one per mesh, built by generate_mesh.
+class SizeField {
+public:
+    /// Compiles and checks the spec against the domain: every used curve must get a density,
+    /// every per-curve key must name a curve or a tag. Throws GeometryError.
+    SizeField(const DensitySpec& spec, const Domain& domain);
+
+    /// rho at a point of curve c, clamped to [min, max]. Throws DensityInvalid when the raw
+    /// value is not finite and positive.
+    double on_curve(CurveId c, Vec2 p) const;
+
+    /// rho inside the domain. In interpolation mode set_boundary_segments() must come first.
+    double interior(Vec2 p) const;
+
+    bool interpolates() const { return interpolate_; }
+    /// Sources of eq. 6.1: the start A_i of each boundary segment and its length rho_i.
+    void set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths);
+
+    /// Limits the field (on curves and inside) to the gradation envelope over these samples
+    /// (gradation.hpp).
+    void set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes);
+    bool graded() const { return graded_ != nullptr; }
+
+    double min_size() const { return min_; }
+    double max_size() const { return max_; }
+    std::optional<double> gradation() const { return gradation_; }
+
+private:
+    struct Source {
+        std::optional<double> constant;
+        std::optional<Expression> expr;
+        Subject subject;  // where it came from, for error messages
+    };
+    double eval(const Source& s, Vec2 p) const;
+
+    std::vector<std::optional<size_t>> curve_source_;  // per curve: index into sources_
+    std::vector<Source> sources_;
+    std::optional<size_t> size_source_, interior_source_;
+    bool interpolate_ = false;
+    std::unique_ptr<InverseDistanceField> idw_;
+    std::unique_ptr<GradationField> graded_;
+    double min_ = 0.0, max_ = 0.0;
+    std::optional<double> gradation_;
+};
+
+}  // namespace meshd::core

@@ -1,0 +1,489 @@
+// Building and validating the domain model (paper, section 2).
+//
+// Checks, in order: point coordinates; each curve's own parameters (by its factory); curve
+// ends against the named points; zero length; loops (existence, reuse, closure); embedded
+// curves; then, on polylines that follow every used curve within kFlattenDeviation of the
+// extent: crossings between and within curves, loop containment (one outer loop, holes
+// inside it and apart) and embedded curves inside the domain.
+
+#include "meshd/core/domain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "geometry/curve.hpp"
+#include "kernel/crossings.hpp"
+#include "meshd/core/errors.hpp"
+#include "kernel/predicates.hpp"
+#include "kernel/tolerances.hpp"
+
+namespace meshd::core {
+
+Domain::Domain() = default;
+Domain::Domain(Domain&&) noexcept = default;
+Domain& Domain::operator=(Domain&&) noexcept = default;
+Domain::~Domain() = default;
+
+std::optional<CurveId> Domain::find_curve(const std::string& name) const {
+    auto it = curve_index_.find(name);
+    if (it == curve_index_.end()) return std::nullopt;
+    return it->second;
+}
+
+namespace {
+
+void name_curve(GeometryError& e, const std::string& name) {
+    bool named = false;
+    for (const Subject& s : e.subjects()) named |= s.kind == Subject::Kind::Curve && !s.name.empty();
+    if (named) return;
+    std::vector<Subject> subjects = e.subjects();
+    bool done = false;
+    for (Subject& s : subjects) {
+        if (s.kind == Subject::Kind::Curve && s.name.empty()) {
+            s.name = name;
+            done = true;
+        }
+    }
+    if (!done) subjects.insert(subjects.begin(), Subject::curve(name));
+    e = GeometryError(e.kind(), std::string("curve \"") + name + "\": " + e.what(), std::move(subjects));
+}
+
+struct Flattened {
+    std::vector<Vec2> points;  // polyline in the curve's direction, ends included
+};
+
+// Adaptive flattening: split while the curve strays from the chord by more than `dev` at
+// the quarter points (checking two points catches S-shaped pieces).
+void flatten_piece(const Curve& c, double ta, double tb, Vec2 pa, Vec2 pb, double dev, int depth,
+                   int min_depth, std::vector<Vec2>& out) {
+    const double tm = 0.5 * (ta + tb);
+    const Vec2 pm = c.point(tm);
+    bool split = depth < min_depth;
+    if (!split && depth < 24) {
+        const Vec2 chord = pb - pa;
+        const double len = norm(chord);
+        auto off = [&](Vec2 q) {
+            return len > 0.0 ? std::fabs(cross(chord, q - pa)) / len : distance(pa, q);
+        };
+        split = off(pm) > dev || off(c.point(0.5 * (ta + tm))) > dev || off(c.point(0.5 * (tm + tb))) > dev;
+    }
+    if (split) {
+        flatten_piece(c, ta, tm, pa, pm, dev, depth + 1, min_depth, out);
+        flatten_piece(c, tm, tb, pm, pb, dev, depth + 1, min_depth, out);
+    } else {
+        out.push_back(pb);
+    }
+}
+
+Flattened flatten(const Curve& c, Vec2 start, Vec2 end, double dev) {
+    std::vector<double> cuts{c.t_begin()};
+    for (double b : c.breaks()) cuts.push_back(b);
+    cuts.push_back(c.t_end());
+    const int min_depth = cuts.size() < 64 ? 3 : 1;
+    Flattened f;
+    f.points.push_back(start);
+    for (size_t i = 0; i + 1 < cuts.size(); ++i) {
+        const Vec2 pa = f.points.back();
+        const Vec2 pb = i + 2 == cuts.size() ? end : c.point(cuts[i + 1]);
+        flatten_piece(c, cuts[i], cuts[i + 1], pa, pb, dev, 0, min_depth, f.points);
+    }
+    return f;
+}
+
+double signed_area(const std::vector<Vec2>& ring) {
+    double a = 0.0;
+    for (size_t i = 0, n = ring.size(); i < n; ++i) a += cross(ring[i], ring[(i + 1) % n]);
+    return 0.5 * a;
+}
+
+// Winding number of a closed polygon around p (non-zero: inside), with the exact orientation
+// predicate.
+int winding(const std::vector<Vec2>& ring, Vec2 p) {
+    int w = 0;
+    for (size_t i = 0, n = ring.size(); i < n; ++i) {
+        const Vec2 a = ring[i], b = ring[(i + 1) % n];
+        if (a.y <= p.y) {
+            if (b.y > p.y && orient2d(a, b, p) == Orientation::Left) ++w;
+        } else if (b.y <= p.y && orient2d(a, b, p) == Orientation::Right) {
+            --w;
+        }
+    }
+    return w;
+}
+
+Box box_of(const std::vector<Vec2>& pts) {
+    Box b;
+    for (Vec2 p : pts) b.add(p);
+    return b;
+}
+
+bool in_box(const Box& b, Vec2 p) {
+    return p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y;
+}
+
+std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+
+}  // namespace
+
+Domain build_domain(const DomainSpec& spec) {
+    using K = GeometryErrorKind;
+    Domain d;
+
+    // Named points.
+    std::map<std::string, PointId> point_index;
+    for (const auto& [name, p] : spec.points) {
+        if (!is_finite(p))
+            throw GeometryError(K::NonFinite, "point " + quoted(name) + " has a non-finite coordinate",
+                                {Subject::point(name)});
+        if (std::fabs(p.x) > tol::kMaxCoordinate || std::fabs(p.y) > tol::kMaxCoordinate)
+            throw GeometryError(K::NonFinite,
+                                "point " + quoted(name) + " is too far out (coordinates beyond 1e30)",
+                                {Subject::point(name)});
+        if (point_index.count(name)) continue;  // the request layer refuses duplicate keys
+        point_index[name] = static_cast<PointId>(d.points_.size());
+        d.points_.push_back({name, p});
+    }
+    auto lookup = [&](const std::string& curve, const std::string& field,
+                      const std::string& name) -> PointId {
+        auto it = point_index.find(name);
+        if (it == point_index.end())
+            throw GeometryError(K::UnknownPoint,
+                                "curve " + quoted(curve) + " names point " + quoted(name) +
+                                    " in \"" + field + "\", which is not defined",
+                                {Subject::curve(curve, {field})});
+        return it->second;
+    };
+
+    // Curves.
+    std::map<std::string, TagId> tag_index;
+    for (const CurveSpec& cs : spec.curves) {
+        if (d.curve_index_.count(cs.name)) continue;
+        std::optional<PointId> from, to;
+        if (cs.from) from = lookup(cs.name, "from", *cs.from);
+        if (cs.to) to = lookup(cs.name, "to", *cs.to);
+        const bool needs_ends = std::holds_alternative<LineShape>(cs.shape) ||
+                                std::holds_alternative<ArcShape>(cs.shape);
+        if (needs_ends && (!from || !to))
+            throw GeometryError(K::BadParameter,
+                                "curve " + quoted(cs.name) + " needs both \"from\" and \"to\"",
+                                {Subject::curve(cs.name, {from ? "to" : "from"})});
+        std::unique_ptr<Curve> geom;
+        try {
+            std::visit(
+                [&](const auto& shape) {
+                    using T = std::decay_t<decltype(shape)>;
+                    if constexpr (std::is_same_v<T, LineShape>) {
+                        geom = make_line(d.points_[*from].position, d.points_[*to].position);
+                    } else if constexpr (std::is_same_v<T, ArcShape>) {
+                        geom = make_arc(d.points_[*from].position, d.points_[*to].position,
+                                        shape.center, shape.direction, *from == *to);
+                    } else if constexpr (std::is_same_v<T, BSplineShape>) {
+                        geom = make_bspline(shape.control_points, shape.degree, shape.knots);
+                    } else if constexpr (std::is_same_v<T, SplineShape>) {
+                        geom = make_spline_through(shape.through);
+                    } else if constexpr (std::is_same_v<T, NacaSpec>) {
+                        geom = make_naca(shape);
+                    } else {
+                        geom = make_airfoil(shape);
+                    }
+                },
+                cs.shape);
+        } catch (GeometryError& e) {
+            name_curve(e, cs.name);
+            throw;
+        }
+        const std::string tag = cs.tag.value_or(cs.name);
+        auto [tit, inserted] = tag_index.emplace(tag, static_cast<TagId>(d.tags_.size()));
+        if (inserted) d.tags_.push_back(tag);
+        DomainCurve dc;
+        dc.name = cs.name;
+        dc.tag = tit->second;
+        dc.geometry = std::move(geom);
+        dc.length = 0.0;
+        // Unnamed ends become anonymous points.
+        const Vec2 gs = dc.geometry->start(), ge = dc.geometry->end();
+        const bool closed_geom = gs == ge;
+        // An unnamed end that sits on a named point (to rounding) is that point.
+        auto named_at = [&](Vec2 p) -> std::optional<PointId> {
+            const double scale = std::fmax(1.0, std::fmax(std::fabs(p.x), std::fabs(p.y)));
+            for (const auto& [n, id] : point_index)
+                if (distance(d.points_[id].position, p) <= tol::kPointMatch * scale) return id;
+            return std::nullopt;
+        };
+        if (!from) from = named_at(gs);
+        if (!to) to = closed_geom ? from : named_at(ge);
+        if (!from) {
+            dc.from = static_cast<PointId>(d.points_.size());
+            d.points_.push_back({{}, gs});
+        } else {
+            dc.from = *from;
+        }
+        if (!to) {
+            if (closed_geom) {
+                dc.to = dc.from;
+            } else {
+                dc.to = static_cast<PointId>(d.points_.size());
+                d.points_.push_back({{}, ge});
+            }
+        } else {
+            dc.to = *to;
+        }
+        d.curve_index_[cs.name] = static_cast<CurveId>(d.curves_.size());
+        d.curves_.push_back(std::move(dc));
+    }
+
+    // Extent (coarse) for the tolerances, then lengths and ends.
+    Box coarse;
+    for (CurveId c = 0; c < d.curves_.size(); ++c) {
+        const Curve& g = *d.curves_[c].geometry;
+        Box own;
+        for (int k = 0; k <= 64; ++k) own.add(g.point(g.t_begin() + (g.t_end() - g.t_begin()) * k / 64.0));
+        const double far = std::fmax(std::fmax(std::fabs(own.lo.x), std::fabs(own.hi.x)),
+                                     std::fmax(std::fabs(own.lo.y), std::fabs(own.hi.y)));
+        if (!(far <= tol::kMaxCoordinate))
+            throw GeometryError(K::NonFinite,
+                                "curve " + quoted(d.curves_[c].name) +
+                                    " reaches non-finite or too large coordinates (beyond 1e30)",
+                                {Subject::curve(d.curves_[c].name)});
+        coarse.add(own);
+        coarse.add(d.points_[d.curves_[c].from].position);
+        coarse.add(d.points_[d.curves_[c].to].position);
+    }
+    const double extent = coarse.diagonal();
+    if (!(extent > 0.0) || !std::isfinite(extent))
+        throw GeometryError(K::ZeroLength, "the domain has no extent", {});
+    for (CurveId c = 0; c < d.curves_.size(); ++c) {
+        DomainCurve& dc = d.curves_[c];
+        const Vec2 gs = dc.geometry->start(), ge = dc.geometry->end();
+        const double match = tol::kPointMatch * extent;
+        if (distance(gs, d.points_[dc.from].position) > match)
+            throw GeometryError(K::EndsMismatch,
+                                "curve " + quoted(dc.name) + " starts at (" + std::to_string(gs.x) + ", " +
+                                    std::to_string(gs.y) + "), not at its \"from\" point",
+                                {Subject::curve(dc.name, {"from"})});
+        if (distance(ge, d.points_[dc.to].position) > match)
+            throw GeometryError(K::EndsMismatch,
+                                "curve " + quoted(dc.name) + " ends at (" + std::to_string(ge.x) + ", " +
+                                    std::to_string(ge.y) + "), not at its \"to\" point",
+                                {Subject::curve(dc.name, {"to"})});
+        dc.length = curve_length(*dc.geometry);
+        if (!std::isfinite(dc.length))
+            throw GeometryError(K::NonFinite, "curve " + quoted(dc.name) + " has a non-finite length",
+                                {Subject::curve(dc.name)});
+        if (dc.length <= tol::kMinCurveLength * extent)
+            throw GeometryError(K::ZeroLength, "curve " + quoted(dc.name) + " has zero length",
+                                {Subject::curve(dc.name)});
+    }
+    // Distinct named points at the same place.
+    {
+        std::vector<PointId> order(d.points_.size());
+        std::iota(order.begin(), order.end(), 0);
+        std::sort(order.begin(), order.end(), [&](PointId a, PointId b) {
+            return d.points_[a].position.x < d.points_[b].position.x;
+        });
+        const double match = tol::kPointMatch * extent;
+        for (size_t i = 0; i < order.size(); ++i) {
+            for (size_t j = i + 1; j < order.size(); ++j) {
+                const Vec2 a = d.points_[order[i]].position, b = d.points_[order[j]].position;
+                if (b.x - a.x > match) break;
+                if (distance(a, b) <= match) {
+                    const auto& na = d.points_[std::min(order[i], order[j])];
+                    const auto& nb = d.points_[std::max(order[i], order[j])];
+                    if (na.name.empty() || nb.name.empty()) continue;  // ends of self-closed curves
+                    throw GeometryError(K::CoincidentPoints,
+                                        "points " + quoted(na.name) + " and " + quoted(nb.name) +
+                                            " coincide; use one name for both",
+                                        {Subject::point(nb.name), Subject::point(na.name)});
+                }
+            }
+        }
+    }
+
+    // Loops and embedded curves: names, reuse, closure.
+    std::vector<int> used(d.curves_.size(), 0);
+    auto curve_of = [&](const std::string& name, Subject where) -> CurveId {
+        auto id = d.find_curve(name);
+        if (!id)
+            throw GeometryError(K::UnknownCurve, "curve " + quoted(name) + " is not defined",
+                                {std::move(where)});
+        if (used[*id]++)
+            throw GeometryError(K::CurveReused,
+                                "curve " + quoted(name) + " is used more than once in loops and embedded",
+                                {std::move(where), Subject::curve(name)});
+        return *id;
+    };
+    std::vector<DomainLoop> loops;
+    for (size_t li = 0; li < spec.loops.size(); ++li) {
+        const auto& items = spec.loops[li];
+        const int lix = static_cast<int>(li);
+        if (items.empty())
+            throw GeometryError(K::EmptyLoop, "loop " + std::to_string(li) + " has no curves",
+                                {Subject::loop(lix)});
+        DomainLoop loop{{}, lix, false, 0.0};
+        for (size_t j = 0; j < items.size(); ++j)
+            loop.items.push_back(
+                {curve_of(items[j].curve, Subject::loop(lix, {std::to_string(j)})), items[j].reversed});
+        for (size_t j = 0; j < loop.items.size(); ++j) {
+            const CurveUse& a = loop.items[j];
+            const CurveUse& b = loop.items[(j + 1) % loop.items.size()];
+            const DomainCurve& ca = d.curves_[a.curve];
+            const DomainCurve& cb = d.curves_[b.curve];
+            const PointId a_end = a.reversed ? ca.from : ca.to;
+            const PointId b_start = b.reversed ? cb.to : cb.from;
+            if (a_end != b_start) {
+                const size_t jn = (j + 1) % loop.items.size();
+                const std::string msg =
+                    loop.items.size() == 1
+                        ? "loop " + std::to_string(li) + ": curve " + quoted(ca.name) +
+                              " is not closed (it ends where it does not start)"
+                        : "loop " + std::to_string(li) + " does not close: curve " + quoted(ca.name) +
+                              " ends at " + (d.points_[a_end].name.empty() ? "an unnamed point" : quoted(d.points_[a_end].name)) +
+                              " but the next curve " + quoted(cb.name) + " starts at " +
+                              (d.points_[b_start].name.empty() ? "an unnamed point" : quoted(d.points_[b_start].name));
+                throw GeometryError(K::LoopNotClosed, msg,
+                                    {Subject::loop(lix, {std::to_string(jn)}), Subject::curve(ca.name),
+                                     Subject::curve(cb.name)});
+            }
+        }
+        loops.push_back(std::move(loop));
+    }
+    if (loops.empty()) throw GeometryError(K::NoOuterLoop, "the geometry has no loops", {});
+    for (size_t ei = 0; ei < spec.embedded.size(); ++ei)
+        d.embedded_.push_back(curve_of(spec.embedded[ei], Subject::embedded(static_cast<int>(ei))));
+
+    // Flatten every used curve; end points are shared by index.
+    const double dev = tol::kFlattenDeviation * extent;
+    detail::SegmentSoup soup;
+    std::vector<CurveId> seg_curve;
+    std::vector<std::vector<Vec2>> flat(d.curves_.size());
+    std::vector<std::uint32_t> soup_of_point(d.points_.size(), UINT32_MAX);
+    auto soup_point = [&](PointId p) {
+        if (soup_of_point[p] == UINT32_MAX) {
+            soup_of_point[p] = static_cast<std::uint32_t>(soup.points.size());
+            soup.points.push_back(d.points_[p].position);
+        }
+        return soup_of_point[p];
+    };
+    for (CurveId c = 0; c < d.curves_.size(); ++c) {
+        if (!used[c]) continue;
+        const DomainCurve& dc = d.curves_[c];
+        flat[c] = flatten(*dc.geometry, d.points_[dc.from].position, d.points_[dc.to].position, dev).points;
+        const auto& f = flat[c];
+        std::uint32_t prev = soup_point(dc.from);
+        for (size_t k = 1; k < f.size(); ++k) {
+            std::uint32_t cur;
+            if (k + 1 == f.size()) {
+                cur = soup_point(dc.to);
+            } else {
+                cur = static_cast<std::uint32_t>(soup.points.size());
+                soup.points.push_back(f[k]);
+            }
+            soup.segments.push_back({prev, cur});
+            seg_curve.push_back(c);
+            prev = cur;
+        }
+    }
+    if (auto hit = detail::find_crossing(soup)) {
+        const CurveId a = seg_curve[hit->first], b = seg_curve[hit->second];
+        const auto& sa = soup.segments[hit->first];
+        const auto& sb = soup.segments[hit->second];
+        // An approximate place for the message: the nearer ends of the two pieces.
+        Vec2 where = soup.points[sa[0]];
+        double best = HUGE_VAL;
+        for (auto i : sa)
+            for (auto j : sb)
+                if (double dd = distance(soup.points[i], soup.points[j]); dd < best) {
+                    best = dd;
+                    where = 0.5 * (soup.points[i] + soup.points[j]);
+                }
+        const std::string at = " near (" + std::to_string(where.x) + ", " + std::to_string(where.y) + ")";
+        if (a == b)
+            throw GeometryError(K::SelfIntersection,
+                                "curve " + quoted(d.curves_[a].name) + " crosses itself" + at,
+                                {Subject::curve(d.curves_[a].name)});
+        throw GeometryError(K::CurvesCross,
+                            "curves " + quoted(d.curves_[a].name) + " and " + quoted(d.curves_[b].name) +
+                                " cross or touch away from a shared end" + at,
+                            {Subject::curve(d.curves_[a].name), Subject::curve(d.curves_[b].name)});
+    }
+
+    // Loop polygons, areas, the outer loop, holes.
+    std::vector<std::vector<Vec2>> rings(loops.size());
+    for (size_t li = 0; li < loops.size(); ++li) {
+        for (const CurveUse& u : loops[li].items) {
+            const auto& f = flat[u.curve];
+            if (u.reversed) rings[li].insert(rings[li].end(), f.rbegin(), f.rend() - 1);
+            else rings[li].insert(rings[li].end(), f.begin(), f.end() - 1);
+        }
+        loops[li].area = signed_area(rings[li]);
+    }
+    size_t outer = 0;
+    for (size_t li = 1; li < loops.size(); ++li)
+        if (std::fabs(loops[li].area) > std::fabs(loops[outer].area)) outer = li;
+    std::vector<Box> boxes(loops.size());
+    for (size_t li = 0; li < loops.size(); ++li) boxes[li] = box_of(rings[li]);
+    for (size_t li = 0; li < loops.size(); ++li) {
+        if (li == outer) continue;
+        const Vec2 probe = rings[li].front();
+        if (!in_box(boxes[outer], probe) || winding(rings[outer], probe) == 0)
+            throw GeometryError(K::HoleOutside,
+                                "loop " + std::to_string(li) + " is not inside the outer loop (loop " +
+                                    std::to_string(outer) + ", the largest)",
+                                {Subject::loop(static_cast<int>(li))});
+    }
+    // Holes apart: no hole inside another. Sorting by box lets each probe meet few boxes.
+    {
+        std::vector<size_t> holes;
+        for (size_t li = 0; li < loops.size(); ++li)
+            if (li != outer) holes.push_back(li);
+        std::sort(holes.begin(), holes.end(), [&](size_t a, size_t b) { return boxes[a].lo.x < boxes[b].lo.x; });
+        for (size_t i = 0; i < holes.size(); ++i) {
+            for (size_t j = 0; j < holes.size(); ++j) {
+                if (i == j) continue;
+                const size_t a = holes[i], b = holes[j];
+                if (boxes[b].lo.x > boxes[a].hi.x) break;
+                const Vec2 probe = rings[a].front();
+                if (in_box(boxes[b], probe) && winding(rings[b], probe) != 0)
+                    throw GeometryError(K::HolesOverlap,
+                                        "hole loop " + std::to_string(a) + " lies inside hole loop " +
+                                            std::to_string(b),
+                                        {Subject::loop(static_cast<int>(a)), Subject::loop(static_cast<int>(b))});
+            }
+        }
+    }
+    // Orientation: domain on the left.
+    for (size_t li = 0; li < loops.size(); ++li) {
+        DomainLoop& l = loops[li];
+        l.hole = li != outer;
+        const bool ccw = l.area > 0.0;
+        if (ccw == l.hole) {
+            std::reverse(l.items.begin(), l.items.end());
+            for (CurveUse& u : l.items) u.reversed = !u.reversed;
+            l.area = -l.area;
+        }
+    }
+    // Embedded curves inside the domain: probe a flattened point away from the ends.
+    for (size_t ei = 0; ei < d.embedded_.size(); ++ei) {
+        const auto& f = flat[d.embedded_[ei]];
+        const Vec2 probe = f.size() > 2 ? f[f.size() / 2] : 0.5 * (f.front() + f.back());
+        bool inside = winding(rings[outer], probe) != 0;
+        for (size_t li = 0; inside && li < loops.size(); ++li)
+            if (li != outer && in_box(boxes[li], probe) && winding(rings[li], probe) != 0) inside = false;
+        if (!inside)
+            throw GeometryError(K::EmbeddedOutside,
+                                "embedded curve " + quoted(d.curves_[d.embedded_[ei]].name) +
+                                    " lies outside the domain",
+                                {Subject::embedded(static_cast<int>(ei)),
+                                 Subject::curve(d.curves_[d.embedded_[ei]].name)});
+    }
+
+    d.loops_.push_back(std::move(loops[outer]));
+    for (size_t li = 0; li < loops.size(); ++li)
+        if (li != outer) d.loops_.push_back(std::move(loops[li]));
+    for (const auto& r : rings) d.box_.add(box_of(r));
+    for (CurveId c : d.embedded_) d.box_.add(box_of(flat[c]));
+    return d;
+}
+
+}  // namespace meshd::core

@@ -1,0 +1,99 @@
+#include "improve/quality.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace meshd::core {
+
+double radius_ratio(Vec2 a, Vec2 b, Vec2 c) {
+    // 2 r_in / R = 16 A^2 / (abc (a + b + c)) with A the area and a, b, c the side lengths.
+    const double la = distance(b, c), lb = distance(c, a), lc = distance(a, b);
+    const double area = 0.5 * std::fabs(cross(b - a, c - a));
+    const double denom = la * lb * lc * (la + lb + lc);
+    return denom > 0.0 ? std::clamp(16.0 * area * area / denom, 0.0, 1.0) : 0.0;
+}
+
+namespace {
+
+std::array<double, 3> cotangents(Vec2 a, Vec2 b, Vec2 c) {
+    const double inv = 1.0 / cross(b - a, c - a);
+    return {dot(b - a, c - a) * inv, dot(c - b, a - b) * inv, dot(a - c, b - c) * inv};
+}
+
+// The angle at corner k of triangle abc, in degrees.
+double angle_deg(Vec2 a, Vec2 b, Vec2 c, int k) {
+    const Vec2 p[3] = {a, b, c};
+    const Vec2 u = p[(k + 1) % 3] - p[k], w = p[(k + 2) % 3] - p[k];
+    return std::atan2(std::fabs(cross(u, w)), dot(u, w)) * (180.0 / std::numbers::pi);
+}
+
+}  // namespace
+
+CornerCot smallest_angle_cot(Vec2 a, Vec2 b, Vec2 c) {
+    const auto k = cotangents(a, b, c);
+    const int i = k[0] >= k[1] ? (k[0] >= k[2] ? 0 : 2) : (k[1] >= k[2] ? 1 : 2);
+    return {k[static_cast<size_t>(i)], i};
+}
+
+QualityMetrics measure_quality(const Mesh& m, const SizeField& rho) {
+    QualityMetrics q;
+    q.points = m.point_count();
+    for (PointKind k : m.kind) (k == PointKind::Interior ? q.interior_points : q.boundary_points)++;
+    q.triangles = m.triangles.size();
+    if (m.triangles.empty()) return q;
+    // The extreme angles are found by their cotangents; only those two get an atan2.
+    double quality_sum = 0.0;
+    q.quality_min = 1.0;
+    CornerCot lo{-HUGE_VAL, 0}, hi{HUGE_VAL, 0};
+    TriangleId lo_t = 0, hi_t = 0;
+    for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+        const Triangle& T = m.triangles[t];
+        const Vec2 a = m.point(T.v[0]), b = m.point(T.v[1]), c = m.point(T.v[2]);
+        const auto k = cotangents(a, b, c);
+        for (int i = 0; i < 3; ++i) {
+            const double cot = k[static_cast<size_t>(i)];
+            if (cot > lo.cot) {
+                lo = {cot, i};
+                lo_t = t;
+            }
+            if (cot < hi.cot) {
+                hi = {cot, i};
+                hi_t = t;
+            }
+        }
+        const double rr = radius_ratio(a, b, c);
+        q.quality_min = std::fmin(q.quality_min, rr);
+        quality_sum += rr;
+        q.quality_histogram[std::min<size_t>(9, static_cast<size_t>(rr * 10.0))]++;
+    }
+    auto corner_angle = [&](TriangleId t, int k) {
+        const Triangle& T = m.triangles[t];
+        return angle_deg(m.point(T.v[0]), m.point(T.v[1]), m.point(T.v[2]), k);
+    };
+    q.angle_min = corner_angle(lo_t, lo.corner);
+    q.angle_max = corner_angle(hi_t, hi.corner);
+    q.angle_mean = 60.0;  // the angles of every triangle sum to 180 degrees
+    q.quality_mean = quality_sum / static_cast<double>(m.triangles.size());
+    // Each edge once: from the triangle with the larger index across it, or without neighbour.
+    double ratio_sum = 0.0;
+    size_t edges = 0, within = 0;
+    const double s2 = std::sqrt(2.0);
+    for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+        const Triangle& T = m.triangles[t];
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            if (T.n[i] != kNoTriangle && T.n[i] < t) continue;
+            const Vec2 a = m.point(T.v[(i + 1) % 3]), b = m.point(T.v[(i + 2) % 3]);
+            const double target = rho.interior(0.5 * (a + b));
+            const double r = distance(a, b) / target;
+            ratio_sum += r;
+            ++edges;
+            within += (r >= 1.0 / s2 && r <= s2) ? 1 : 0;
+        }
+    }
+    q.size_ratio_mean = ratio_sum / static_cast<double>(edges);
+    q.size_ratio_within_sqrt2 = static_cast<double>(within) / static_cast<double>(edges);
+    return q;
+}
+
+}  // namespace meshd::core

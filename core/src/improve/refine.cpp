@@ -1,0 +1,268 @@
+// Quality refinement (options.min_angle_deg): Ruppert/Chew-style insertion of circumcentres
+// into the finished constrained Delaunay mesh.
+//
+// A triangle whose smallest angle is below the bound gets its circumcentre inserted, unless
+// the way from the triangle to that centre crosses a constrained edge, or the centre lies in
+// the diametral circle of a constrained edge nearby: then that edge is split at its midpoint
+// instead. Each insertion is followed by Lawson flips (constrained edges never flip), so the
+// mesh stays constrained Delaunay. Angles between two constrained edges (input corners such
+// as a sharp trailing edge) cannot be improved and are left alone; so are triangles already
+// far below the local size, and the work stops at the point limit. A split boundary or
+// embedded edge gets its new point on its curve, at the mean of its ends' parameters: a
+// curved wall stays on the curve (the split is skipped when that point would invert a
+// triangle next to the edge).
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <unordered_map>
+
+#include "improve/refine.hpp"
+
+#include "geometry/curve.hpp"
+#include "meshd/core/errors.hpp"
+#include "triangulation/triangle_soup.hpp"
+#include "kernel/predicates.hpp"
+
+namespace meshd::core {
+
+namespace {
+
+using detail::next3;
+using detail::prev3;
+
+std::uint64_t ukey(std::uint32_t a, std::uint32_t b) {
+    if (a > b) std::swap(a, b);
+    return (static_cast<std::uint64_t>(a) << 32) | b;
+}
+
+class Refiner {
+public:
+    Refiner(Mesh& m, const Domain& domain, const SizeField& rho, double min_angle_deg, size_t max_points,
+            Observer* obs)
+        : m_(m), domain_(domain), rho_(rho), obs_(obs), max_points_(max_points) {
+        cos_bound_ = std::cos(min_angle_deg * std::numbers::pi / 180.0);
+        pts_.reserve(m.point_count() * 2);
+        for (std::uint32_t v = 0; v < m.point_count(); ++v) pts_.push_back(m.point(v));
+        soup_ = std::make_unique<detail::TriangleSoup>(pts_, m.triangles, true);
+        chains_.resize(m.edges.size());
+        for (size_t e = 0; e < m.edges.size(); ++e) {
+            chains_[e] = {m.edges[e].a, m.edges[e].b};
+            edge_of_[ukey(m.edges[e].a, m.edges[e].b)] = e;
+        }
+    }
+
+    std::uint64_t run() {
+        std::vector<TriangleId> queue;
+        for (TriangleId t = 0; t < m_.triangles.size(); ++t)
+            if (bad(t)) queue.push_back(t);
+        std::uint64_t inserted = 0, steps = 0;
+        while (!queue.empty()) {
+            if ((++steps & 255) == 0 && obs_) {
+                if (obs_->should_stop()) throw Cancelled();
+                obs_->on_progress(Stage::Quality, 0.0);
+            }
+            if (max_points_ && pts_.size() >= max_points_) break;
+            const TriangleId t = queue.back();
+            queue.pop_back();
+            if (!bad(t)) continue;
+            const size_t before = m_.triangles.size();
+            if (!fix(t)) continue;
+            ++inserted;
+            // New or changed triangles: the ones made now, those around the new point, and t
+            // itself when the insertion was a segment split elsewhere.
+            for (TriangleId u = static_cast<TriangleId>(before); u < m_.triangles.size(); ++u)
+                if (bad(u)) queue.push_back(u);
+            around(static_cast<std::uint32_t>(pts_.size() - 1), queue);
+            queue.push_back(t);
+        }
+        finish();
+        return inserted;
+    }
+
+private:
+    // Smallest-angle test; input corners and triangles far below the local size are not bad.
+    bool bad(TriangleId t) const {
+        const Triangle& T = m_.triangles[t];
+        const Vec2 p[3] = {pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]};
+        double best_cos = -2.0;
+        int corner = -1;
+        for (int i = 0; i < 3; ++i) {
+            const Vec2 u = p[(i + 1) % 3] - p[i], w = p[(i + 2) % 3] - p[i];
+            const double c = dot(u, w) / std::sqrt(norm2(u) * norm2(w));
+            if (c > best_cos) {
+                best_cos = c;
+                corner = i;
+            }
+        }
+        if (best_cos <= cos_bound_) return false;
+        // Both edges at the corner constrained: an input angle.
+        const auto k = static_cast<std::uint32_t>(corner);
+        if (edge_bit(T.constrained, next3(k)) && edge_bit(T.constrained, prev3(k))) return false;
+        const double shortest = std::min({distance(p[0], p[1]), distance(p[1], p[2]), distance(p[2], p[0])});
+        const Vec2 g = (p[0] + p[1] + p[2]) / 3.0;
+        return shortest > 0.1 * rho_.interior(g);
+    }
+
+    // Every triangle around vertex v (both ways round, for a fan open at the boundary).
+    void around(std::uint32_t v, std::vector<TriangleId>& queue) const {
+        const TriangleId start = soup_->vertex_triangle(v);
+        if (start == kNoTriangle) return;
+        for (const bool ccw : {true, false}) {
+            TriangleId t = start;
+            for (int guard = 0; guard < 256; ++guard) {
+                if (bad(t)) queue.push_back(t);
+                const std::uint32_t k = detail::TriangleSoup::index_of(m_.triangles[t], v);
+                const TriangleId nt = m_.triangles[t].n[ccw ? next3(k) : prev3(k)];
+                if (nt == kNoTriangle || nt == start) break;
+                t = nt;
+            }
+        }
+    }
+
+    // Fixes triangle t by one insertion; false when nothing could be inserted.
+    bool fix(TriangleId t) {
+        const Triangle& T = m_.triangles[t];
+        const Vec2 a = pts_[T.v[0]], b = pts_[T.v[1]], c = pts_[T.v[2]];
+        const Vec2 ab = b - a, ac = c - a;
+        const double d = 2.0 * cross(ab, ac);
+        if (!(std::fabs(d) > 0.0)) return false;
+        const Vec2 centre = a + Vec2{(ac.y * norm2(ab) - ab.y * norm2(ac)) / d, (ab.x * norm2(ac) - ac.x * norm2(ab)) / d};
+        // Walk from the centroid to the centre; stop at the first constrained edge crossed.
+        Vec2 from = (a + b + c) / 3.0;
+        TriangleId cur = t;
+        for (int steps = 0; steps < 10000; ++steps) {
+            const Triangle& C = m_.triangles[cur];
+            int exit = -1;
+            for (std::uint32_t i = 0; i < 3; ++i) {
+                const Vec2 e0 = pts_[C.v[next3(i)]], e1 = pts_[C.v[prev3(i)]];
+                if (orient2d(e0, e1, centre) != Orientation::Right) continue;
+                if (orient2d(from, centre, e0) != Orientation::Left && orient2d(from, centre, e1) != Orientation::Right) {
+                    exit = static_cast<int>(i);
+                    break;
+                }
+            }
+            if (exit < 0) break;  // the centre is in cur
+            const auto i = static_cast<std::uint32_t>(exit);
+            if (edge_bit(C.constrained, i) || C.n[i] == kNoTriangle) return split_segment(cur, i);
+            cur = C.n[i];
+            if (steps == 9999) return false;
+        }
+        // A constrained edge of the triangle found (or of its neighbours) whose diametral
+        // circle holds the centre is split instead.
+        for (TriangleId x : {cur, m_.triangles[cur].n[0], m_.triangles[cur].n[1], m_.triangles[cur].n[2]}) {
+            if (x == kNoTriangle) continue;
+            const Triangle& X = m_.triangles[x];
+            for (std::uint32_t i = 0; i < 3; ++i) {
+                if (!edge_bit(X.constrained, i)) continue;
+                const Vec2 e0 = pts_[X.v[next3(i)]], e1 = pts_[X.v[prev3(i)]];
+                if (dot(e0 - centre, e1 - centre) < 0.0) return split_segment(x, i);
+            }
+        }
+        const Triangle& C = m_.triangles[cur];
+        for (auto v : C.v)
+            if (pts_[v] == centre) return false;
+        int on_edge = -1;
+        for (std::uint32_t i = 0; i < 3; ++i)
+            if (orient2d(pts_[C.v[next3(i)]], pts_[C.v[prev3(i)]], centre) == Orientation::Collinear) on_edge = static_cast<int>(i);
+        const std::uint32_t p = add_point(centre, PointKind::Interior, kNoCurve, 0.0);
+        queue_.clear();
+        if (on_edge < 0) soup_->split_triangle(cur, p, queue_);
+        else soup_->split_edge(cur, static_cast<std::uint32_t>(on_edge), p, queue_);
+        soup_->legalize(queue_);
+        return true;
+    }
+
+    bool split_segment(TriangleId t, std::uint32_t i) {
+        const Triangle& T = m_.triangles[t];
+        const std::uint32_t a = T.v[next3(i)], b = T.v[prev3(i)];
+        const Vec2 mid = 0.5 * (pts_[a] + pts_[b]);
+        if (!(distance(pts_[a], pts_[b]) > 0.1 * rho_.interior(mid))) return false;
+        auto it = edge_of_.find(ukey(a, b));
+        if (it == edge_of_.end()) return false;  // constrained but not a mesh edge: leave it
+        const size_t e = it->second;
+        const CurveId c = m_.edges[e].curve;
+        const double tp = 0.5 * (param_on(c, a, b) + param_on(c, b, a));
+        const Vec2 p_at = domain_.curves()[c].geometry->point(tp);
+        // The triangles on either side of a-b, split at p, must keep their orientation.
+        for (const auto& [x, k] : {std::pair{t, i}, std::pair{T.n[i], 0u}}) {
+            if (x == kNoTriangle) continue;
+            const Triangle& X = m_.triangles[x];
+            const std::uint32_t kk = x == t ? k : soup_->back_index(x, t);
+            const Vec2 apex = pts_[X.v[kk]], s0 = pts_[X.v[next3(kk)]], s1 = pts_[X.v[prev3(kk)]];
+            if (orient2d(apex, s0, p_at) != Orientation::Left || orient2d(apex, p_at, s1) != Orientation::Left)
+                return false;
+        }
+        const std::uint32_t p = add_point(p_at, m_.edges[e].embedded ? PointKind::Embedded : PointKind::Boundary, c, tp);
+        queue_.clear();
+        soup_->split_edge(t, i, p, queue_);
+        soup_->legalize(queue_);
+        // The segment's chain of points gains p between a and b.
+        auto& chain = chains_[e];
+        for (size_t k = 0; k + 1 < chain.size(); ++k) {
+            if ((chain[k] == a && chain[k + 1] == b) || (chain[k] == b && chain[k + 1] == a)) {
+                chain.insert(chain.begin() + static_cast<std::ptrdiff_t>(k) + 1, p);
+                break;
+            }
+        }
+        edge_of_.erase(it);
+        edge_of_[ukey(a, p)] = e;
+        edge_of_[ukey(p, b)] = e;
+        return true;
+    }
+
+    // The parameter of vertex v on curve c, where v is an end of an edge v-other of c: its
+    // own for points of the curve, else (a curve end) the start or the end of the curve.
+    double param_on(CurveId c, std::uint32_t v, std::uint32_t other) const {
+        if (m_.curve[v] == c) return m_.param[v];
+        const DomainCurve& dc = domain_.curves()[c];
+        const Curve& g = *dc.geometry;
+        if (dc.from != dc.to) return distance(pts_[v], g.start()) <= distance(pts_[v], g.end()) ? g.t_begin() : g.t_end();
+        // The closing point of a closed curve: the end on the side of the edge's other point.
+        const double t_other = m_.curve[other] == c ? m_.param[other] : g.t_begin();
+        return t_other - g.t_begin() < g.t_end() - t_other ? g.t_begin() : g.t_end();
+    }
+
+    std::uint32_t add_point(Vec2 p, PointKind kind, CurveId curve, double param) {
+        pts_.push_back(p);
+        m_.x.push_back(p.x);
+        m_.y.push_back(p.y);
+        m_.kind.push_back(kind);
+        m_.curve.push_back(curve);
+        m_.param.push_back(param);
+        soup_->grow_vertices(pts_.size());
+        return static_cast<std::uint32_t>(pts_.size() - 1);
+    }
+
+    void finish() {
+        std::vector<MeshEdge> edges;
+        edges.reserve(m_.edges.size());
+        for (size_t e = 0; e < m_.edges.size(); ++e)
+            for (size_t k = 0; k + 1 < chains_[e].size(); ++k)
+                edges.push_back({chains_[e][k], chains_[e][k + 1], m_.edges[e].tag, m_.edges[e].curve, m_.edges[e].embedded});
+        m_.edges = std::move(edges);
+    }
+
+    Mesh& m_;
+    const Domain& domain_;
+    const SizeField& rho_;
+    Observer* obs_;
+    size_t max_points_;
+    double cos_bound_;
+    std::vector<Vec2> pts_;
+    std::unique_ptr<detail::TriangleSoup> soup_;
+    std::vector<std::vector<std::uint32_t>> chains_;
+    std::unordered_map<std::uint64_t, size_t> edge_of_;
+    std::vector<std::pair<TriangleId, std::uint32_t>> queue_;
+};
+
+}  // namespace
+
+std::uint64_t refine_min_angle(Mesh& mesh, const Domain& domain, const SizeField& rho, double min_angle_deg,
+                               size_t max_points, Observer* observer) {
+    if (!(min_angle_deg > 0.0)) return 0;
+    Refiner r(mesh, domain, rho, min_angle_deg, max_points, observer);
+    return r.run();
+}
+
+}  // namespace meshd::core

@@ -1,0 +1,19 @@
+#pragma once
+// Laplacian smoothing and the angle repair (ALGORITHM.md, section 5).
+
+#include <cstdint>
+
+#include "meshd/core/mesh.hpp"
+#include "meshd/core/observer.hpp"
+
+namespace meshd::core {
+
+/// Each sweep moves the interior points that are still settling to the mean of their
+/// neighbours (or half way) unless that inverts a triangle of the star or lowers the star's
+/// worst mean ratio; then the Delaunay property is restored by flips of unconstrained edges.
+/// Last, the interior corners of triangles with an angle below 34 degrees are placed where
+/// the smallest angle of their star is largest (a pattern search), again followed by flips.
+/// Returns the number of moves made; adds the flips to *flips when given.
+std::uint64_t smooth(Mesh& mesh, int iterations, std::uint64_t* flips = nullptr, Observer* observer = nullptr);
+
+}  // namespace meshd::core

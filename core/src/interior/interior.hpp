@@ -1,0 +1,38 @@
+#pragma once
+/// Interior points by the advancing front (paper, section 4, algorithm 4.1).
+///
+/// The front starts as the segments of the discretised boundary (loops with the domain on
+/// their left; embedded curves in both directions), all active. The last active segment AB
+/// proposes a point C on its left (the four cases of (4.6), as ALGORITHM.md reads them), and
+/// optionally corrects it towards (4.4) by a fixed-point iteration. C is accepted when every
+/// other point P is farther than (rho(C) + rho(P)) / 2 (4.22), AC and BC cross no front
+/// segment and no boundary or embedded segment, and C lies in the domain; then AB is
+/// replaced by AC and CB. Otherwise AB becomes inactive. The run ends when no segment is
+/// active.
+///
+/// Neighbour and crossing queries go through hashed grids by size class; being inside is
+/// decided by a straight walk in the constrained triangulation of the boundary, with exact
+/// predicates. Each step costs O(1) on graded meshes: the run is linear in the number of
+/// points.
+
+#include <cstdint>
+#include <vector>
+
+#include "boundary/boundary.hpp"
+#include "density/size_field.hpp"
+#include "meshd/core/mesher.hpp"
+#include "meshd/core/observer.hpp"
+
+namespace meshd::core {
+
+/// The interior points (not including the boundary's), in the order they were made.
+/// `rho` must be ready for interior queries (set_interpolation_sources for eq. 6.1);
+/// `walls` is the constrained triangulation of `boundary` (triangulate_boundary). Refuses
+/// (TooManyPoints) beyond max_points points in all (0: no limit). Throws GeometryError
+/// (density invalid, too many points) or Cancelled.
+std::vector<Vec2> generate_interior_points(const Domain& domain, const Discretisation& boundary,
+                                           const BoundaryTriangulation& walls, const SizeField& rho,
+                                           const InteriorOptions& options = {}, size_t max_points = 0,
+                                           Observer* observer = nullptr, InteriorStats* stats = nullptr);
+
+}  // namespace meshd::core

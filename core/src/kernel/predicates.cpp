@@ -1,0 +1,205 @@
+// Adaptive exact predicates after Shewchuk (1997): a floating-point filter with a proven
+// error bound, then exact expansion arithmetic.
+//
+// Expansions: a value is held as a sum of doubles of increasing magnitude that do not
+// overlap; two_sum and two_product give the exact rounding error of one operation, so sums
+// and products of doubles can be carried out without loss.
+
+#include "kernel/predicates.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+namespace meshd::core {
+
+namespace {
+
+thread_local PredicateCounters counters;
+
+
+// x + y = s + e exactly.
+inline void two_sum(double x, double y, double& s, double& e) {
+    s = x + y;
+    const double bv = s - x;
+    const double av = s - bv;
+    e = (x - av) + (y - bv);
+}
+
+// x * y = p + e exactly (fused multiply-add computes the rounding error exactly; we do not
+// rely on contraction elsewhere, see -ffp-contract=off).
+inline void two_product(double x, double y, double& p, double& e) {
+    p = x * y;
+    e = std::fma(x, y, -p);
+}
+
+// Adds a double to an expansion in place (Shewchuk's Grow-Expansion with zero elimination).
+// e has n components; returns the new count. The output buffer must hold n + 1.
+size_t grow(double* e, size_t n, double b) {
+    double q = b;
+    size_t out = 0;
+    for (size_t i = 0; i < n; ++i) {
+        double s, err;
+        two_sum(q, e[i], s, err);
+        q = s;
+        if (err != 0.0) e[out++] = err;
+    }
+    if (q != 0.0 || out == 0) e[out++] = q;
+    return out;
+}
+
+int sign_of(double v) { return (v > 0.0) - (v < 0.0); }
+
+// ---------------------------------------------------------------------------------------
+// Expansions as vectors, for the rare exact stage of incircle.
+
+using Expansion = std::vector<double>;
+
+// Sum of two non-overlapping expansions: merge by magnitude, then accumulate with two_sum
+// (Shewchuk's Fast-Expansion-Sum, with zero elimination).
+Expansion add(const Expansion& e, const Expansion& f) {
+    Expansion g;
+    g.reserve(e.size() + f.size());
+    std::merge(e.begin(), e.end(), f.begin(), f.end(), std::back_inserter(g),
+               [](double a, double b) { return std::fabs(a) < std::fabs(b); });
+    Expansion h;
+    if (g.empty()) return h;
+    h.reserve(g.size());
+    double q = g[0];
+    for (size_t i = 1; i < g.size(); ++i) {
+        double s, err;
+        two_sum(q, g[i], s, err);
+        if (err != 0.0) h.push_back(err);
+        q = s;
+    }
+    if (q != 0.0 || h.empty()) h.push_back(q);
+    return h;
+}
+
+Expansion negate(Expansion e) {
+    for (double& v : e) v = -v;
+    return e;
+}
+
+// e * b for a double b (Scale-Expansion with zero elimination).
+Expansion scale(const Expansion& e, double b) {
+    Expansion h;
+    h.reserve(2 * e.size());
+    double q, err;
+    two_product(e[0], b, q, err);
+    if (err != 0.0) h.push_back(err);
+    for (size_t i = 1; i < e.size(); ++i) {
+        double p1, p0, s;
+        two_product(e[i], b, p1, p0);
+        two_sum(q, p0, s, err);
+        if (err != 0.0) h.push_back(err);
+        two_sum(p1, s, q, err);
+        if (err != 0.0) h.push_back(err);
+    }
+    if (q != 0.0 || h.empty()) h.push_back(q);
+    return h;
+}
+
+Expansion mul(const Expansion& e, const Expansion& f) {
+    Expansion acc{0.0};
+    for (double v : f) acc = add(acc, scale(e, v));
+    return acc;
+}
+
+Expansion diff(double a, double b) {
+    double s, err;
+    two_sum(a, -b, s, err);
+    if (err == 0.0) return {s};
+    return {err, s};
+}
+
+int incircle_expansion(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+    const Expansion adx = diff(a.x, d.x), ady = diff(a.y, d.y);
+    const Expansion bdx = diff(b.x, d.x), bdy = diff(b.y, d.y);
+    const Expansion cdx = diff(c.x, d.x), cdy = diff(c.y, d.y);
+    const Expansion alift = add(mul(adx, adx), mul(ady, ady));
+    const Expansion blift = add(mul(bdx, bdx), mul(bdy, bdy));
+    const Expansion clift = add(mul(cdx, cdx), mul(cdy, cdy));
+    const Expansion bc = add(mul(bdx, cdy), negate(mul(cdx, bdy)));
+    const Expansion ca = add(mul(cdx, ady), negate(mul(adx, cdy)));
+    const Expansion ab = add(mul(adx, bdy), negate(mul(bdx, ady)));
+    const Expansion det = add(add(mul(alift, bc), mul(blift, ca)), mul(clift, ab));
+    return sign_of(det.back());
+}
+
+int orient_expansion(Vec2 a, Vec2 b, Vec2 c) {
+    // det = ax*by - ax*cy - ay*bx + ay*cx + bx*cy - by*cx, every product exact.
+    const double terms[6][2] = {{a.x, b.y}, {-a.x, c.y}, {-a.y, b.x},
+                                {a.y, c.x}, {b.x, c.y},  {-b.y, c.x}};
+    double e[13];
+    size_t n = 0;
+    for (const auto& t : terms) {
+        double p, err;
+        two_product(t[0], t[1], p, err);
+        n = grow(e, n, err);
+        n = grow(e, n, p);
+    }
+    // The largest component carries the sign of a non-overlapping expansion.
+    return sign_of(e[n - 1]);
+}
+
+}  // namespace
+
+namespace detail {
+
+Orientation orient2d_exact(Vec2 a, Vec2 b, Vec2 c) {
+    ++counters.orient_exact;
+    return static_cast<Orientation>(orient_expansion(a, b, c));
+}
+
+int incircle_exact(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+    ++counters.incircle_exact;
+    return incircle_expansion(a, b, c, d);
+}
+
+int incircle_tie(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::uint32_t ra, std::uint32_t rb, std::uint32_t rc,
+                 std::uint32_t rd) {
+    // The determinant with rows (x, y, x^2 + y^2, 1) is linear in each lifted height; raising
+    // the height of row i by eps^rank adds eps^rank times its cofactor, (-1)^i times the
+    // orientation of the other three rows in order. The highest-weighted (lowest rank) point
+    // whose cofactor is non-zero decides.
+    const std::array<Vec2, 4> p{a, b, c, d};
+    std::array<std::uint32_t, 4> rank{ra, rb, rc, rd};
+    std::array<int, 4> order{0, 1, 2, 3};
+    std::sort(order.begin(), order.end(), [&](int i, int j) { return rank[static_cast<size_t>(i)] < rank[static_cast<size_t>(j)]; });
+    for (int i : order) {
+        std::array<Vec2, 3> rest;
+        size_t k = 0;
+        for (int j = 0; j < 4; ++j)
+            if (j != i) rest[k++] = p[static_cast<size_t>(j)];
+        const int o = static_cast<int>(orient2d(rest[0], rest[1], rest[2]));
+        if (o != 0) return (i % 2 == 0) ? o : -o;
+    }
+    return 0;
+}
+
+}  // namespace detail
+
+PredicateCounters predicate_counters() { return counters; }
+void reset_predicate_counters() { counters = {}; }
+
+bool segments_intersect(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+    const int o1 = static_cast<int>(orient2d(a, b, c));
+    const int o2 = static_cast<int>(orient2d(a, b, d));
+    const int o3 = static_cast<int>(orient2d(c, d, a));
+    const int o4 = static_cast<int>(orient2d(c, d, b));
+    if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+    auto on_segment = [](Vec2 p, Vec2 q, Vec2 r) {  // r collinear with pq: within its box?
+        return std::fmin(p.x, q.x) <= r.x && r.x <= std::fmax(p.x, q.x) &&
+               std::fmin(p.y, q.y) <= r.y && r.y <= std::fmax(p.y, q.y);
+    };
+    if (o1 == 0 && on_segment(a, b, c)) return true;
+    if (o2 == 0 && on_segment(a, b, d)) return true;
+    if (o3 == 0 && on_segment(c, d, a)) return true;
+    if (o4 == 0 && on_segment(c, d, b)) return true;
+    return false;
+}
+
+}  // namespace meshd::core

@@ -1,0 +1,270 @@
+// The paper's triangulator (section 5, after Lo 1989): the Delaunay advancing front.
+//
+// The front starts as the loop segments (domain on their left) and the embedded segments
+// in both directions. For the last front edge AB, the candidates are the live points on its
+// left within a radius R of its midpoint (R starts at |AB|); among those visible from AB
+// (AC and BC cross no front edge) the one whose circle through A, B holds no other visible
+// candidate is C* (circles through A and B are nested on the left of AB, so one pass that
+// replaces C* by any visible candidate inside its circle finds it). If that circle reaches
+// beyond the searched disk, R grows and the search repeats, so the choice is exact. ABC*
+// is formed; its edges close matching front edges or join the front. Decisions are exact
+// and use the same perturbed in-circle test as the incremental triangulator, so both give
+// the same triangles.
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <memory>
+#include <numeric>
+#include <unordered_map>
+
+#include "triangulation/triangle_soup.hpp"
+#include "kernel/size_grid.hpp"
+#include "kernel/kdtree.hpp"
+#include "meshd/core/errors.hpp"
+#include "meshd/core/observer.hpp"
+#include "kernel/predicates.hpp"
+#include "triangulation/triangulation.hpp"
+
+namespace meshd::core {
+
+namespace {
+
+using detail::CellMap;
+using detail::SizeClasses;
+
+// Disk queries over the static tree of kdtree.hpp.
+class PointTree {
+public:
+    explicit PointTree(const std::vector<Vec2>& pts) : pts_(pts), tree_(pts) {}
+
+    template <class F>
+    void query(Vec2 c, double r, F&& visit) const {
+        if (tree_.nodes.empty()) return;
+        const double r2 = r * r;
+        std::uint32_t stack[128];
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const detail::KdNode& n = tree_.nodes[stack[--top]];
+            const double dx = std::fmax(0.0, std::fmax(n.box.lo.x - c.x, c.x - n.box.hi.x));
+            const double dy = std::fmax(0.0, std::fmax(n.box.lo.y - c.y, c.y - n.box.hi.y));
+            if (dx * dx + dy * dy > r2) continue;
+            if (n.left == 0) {
+                for (std::uint32_t i = n.begin; i < n.end; ++i)
+                    if (norm2(pts_[tree_.order[i]] - c) <= r2) visit(tree_.order[i]);
+                continue;
+            }
+            stack[top++] = n.left;
+            stack[top++] = n.right;
+        }
+    }
+
+private:
+    const std::vector<Vec2>& pts_;
+    detail::KdLayout tree_;
+};
+
+std::uint64_t dkey(std::uint32_t a, std::uint32_t b) { return (static_cast<std::uint64_t>(a) << 32) | b; }
+
+class DelaunayFront {
+public:
+    DelaunayFront(const std::vector<Vec2>& pts, const std::vector<Constraint>& cons, Observer* obs)
+        : pts_(pts), cons_(cons), obs_(obs), tree_(pts), front_degree_(pts.size(), 0), touched_(pts.size(), 0) {
+        Box box;
+        for (const Vec2& p : pts) box.add(p);
+        extent_ = std::fmax(box.diagonal(), 1e-300);
+        classes_ = std::make_unique<SizeClasses>(box.lo - Vec2{extent_, extent_}, extent_);
+        for (const Constraint& c : cons) {
+            add_front(c.a, c.b);
+            if (!c.loop) add_front(c.b, c.a);
+        }
+    }
+
+    TriangulationResult run() {
+        std::uint64_t steps = 0;
+        while (!stack_.empty()) {
+            const std::uint32_t f = stack_.back();
+            stack_.pop_back();
+            if (!edges_[f].alive) continue;
+            if ((++steps & 4095) == 0 && obs_) {
+                if (obs_->should_stop()) throw Cancelled();
+                obs_->on_progress(Stage::Triangulation, std::fmin(0.99, static_cast<double>(tris_.size()) / (2.0 * static_cast<double>(pts_.size()))));
+            }
+            advance(f);
+        }
+        return finish();
+    }
+
+private:
+    struct FrontEdge {
+        std::uint32_t a, b;
+        bool alive;
+    };
+
+    void add_front(std::uint32_t a, std::uint32_t b) {
+        const auto id = static_cast<std::uint32_t>(edges_.size());
+        edges_.push_back({a, b, true});
+        front_[dkey(a, b)] = id;
+        stack_.push_back(id);
+        ++front_degree_[a];
+        ++front_degree_[b];
+        touched_[a] = touched_[b] = 1;
+        const Vec2 pa = pts_[a], pb = pts_[b];
+        const int k = classes_->class_of(distance(pa, pb));
+        for (auto x = classes_->ix(std::fmin(pa.x, pb.x), k); x <= classes_->ix(std::fmax(pa.x, pb.x), k); ++x)
+            for (auto y = classes_->iy(std::fmin(pa.y, pb.y), k); y <= classes_->iy(std::fmax(pa.y, pb.y), k); ++y)
+                grid_.push(SizeClasses::key(k, x, y), id);
+        used_classes_[static_cast<size_t>(k)] = true;
+    }
+
+    void remove_front(std::uint32_t id) {
+        FrontEdge& e = edges_[id];
+        e.alive = false;
+        front_.erase(dkey(e.a, e.b));
+        --front_degree_[e.a];
+        --front_degree_[e.b];
+    }
+
+    bool alive_point(std::uint32_t v) const { return !touched_[v] || front_degree_[v] > 0; }
+
+    // Does segment p-q cross a live front edge (other than at shared ends)?
+    bool blocked(std::uint32_t p, std::uint32_t q) const {
+        const Vec2 pp = pts_[p], pq = pts_[q];
+        const double len = distance(pp, pq);
+        const int k0 = classes_->class_of(len);
+        for (int k = 1; k <= SizeClasses::kMax; ++k) {
+            if (!used_classes_[static_cast<size_t>(k)]) continue;
+            // Grids of edges no smaller than about p-q: its box covers few cells there. Edges
+            // much smaller than p-q are found by scanning the cells of their own class.
+            const auto x0 = classes_->ix(std::fmin(pp.x, pq.x), k), x1 = classes_->ix(std::fmax(pp.x, pq.x), k);
+            const auto y0 = classes_->iy(std::fmin(pp.y, pq.y), k), y1 = classes_->iy(std::fmax(pp.y, pq.y), k);
+            if (k > k0 + 3) {
+                // Many small cells: only worth it if the segment is short in them.
+                if ((x1 - x0 + 1) * (y1 - y0 + 1) > 64) continue;
+            }
+            for (auto x = x0; x <= x1; ++x)
+                for (auto y = y0; y <= y1; ++y)
+                    for (auto e = grid_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = grid_.next(e)) {
+                        const FrontEdge& f = edges_[grid_.item(e)];
+                        if (!f.alive) continue;
+                        if (f.a == p || f.b == p || f.a == q || f.b == q) continue;
+                        if (segments_intersect(pp, pq, pts_[f.a], pts_[f.b])) return true;
+                    }
+        }
+        return false;
+    }
+
+    void advance(std::uint32_t f) {
+        const std::uint32_t a = edges_[f].a, b = edges_[f].b;
+        const Vec2 pa = pts_[a], pb = pts_[b];
+        const Vec2 mid = 0.5 * (pa + pb);
+        double r = distance(pa, pb);
+        std::vector<std::uint32_t>& cand = cand_;
+        for (int round = 0; round < 200; ++round) {
+            cand.clear();
+            tree_.query(mid, r, [&](std::uint32_t v) {
+                if (v != a && v != b && alive_point(v) && orient2d(pa, pb, pts_[v]) == Orientation::Left) cand.push_back(v);
+            });
+            std::sort(cand.begin(), cand.end());
+            std::uint32_t best = UINT32_MAX;
+            for (std::uint32_t c : cand) {
+                if (best != UINT32_MAX &&
+                    incircle_perturbed(pa, pb, pts_[best], pts_[c], a, b, best, c) <= 0)
+                    continue;
+                if (blocked(a, c) || blocked(b, c)) continue;
+                best = c;
+            }
+            // A disk this large holds every point: the search is complete.
+            const bool everything = r >= 2.0 * extent_;
+            if (best != UINT32_MAX) {
+                // Is the circle through a, b, best inside the searched disk?
+                const Vec2 pc = pts_[best];
+                const Vec2 ab = pb - pa, ac = pc - pa;
+                const double d = 2.0 * cross(ab, ac);
+                const Vec2 centre = pa + Vec2{(ac.y * norm2(ab) - ab.y * norm2(ac)) / d,
+                                              (ab.x * norm2(ac) - ac.x * norm2(ab)) / d};
+                const double need = distance(centre, mid) + distance(centre, pa);
+                if (everything || need <= r * (1.0 - 1e-12)) {
+                    form(f, a, b, best);
+                    return;
+                }
+                r = std::fmin(need * 1.01, 2.0 * extent_);
+            } else {
+                MESHD_INTERNAL_CHECK(!everything, "advancing front: no point for a front edge");
+                r = std::fmin(r * 2.0, 2.0 * extent_);
+            }
+        }
+        throw InternalError("advancing front: candidate search does not settle", __FILE__, __LINE__);
+    }
+
+    void form(std::uint32_t f, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        tris_.push_back({{a, b, c}, {kNoTriangle, kNoTriangle, kNoTriangle}, 0, 0});
+        remove_front(f);
+        touched_[c] = 1;
+        // Edge b -> c: closes front edge b -> c, or opens c -> b. Likewise c -> a.
+        for (auto [u, w] : {std::pair{b, c}, std::pair{c, a}}) {
+            auto it = front_.find(dkey(u, w));
+            if (it != front_.end()) remove_front(it->second);
+            else add_front(w, u);
+        }
+    }
+
+    TriangulationResult finish() {
+        TriangulationResult r;
+        r.triangles = std::move(tris_);
+        std::unordered_map<std::uint64_t, std::pair<TriangleId, std::uint32_t>> by_edge;
+        by_edge.reserve(3 * r.triangles.size());
+        for (TriangleId t = 0; t < r.triangles.size(); ++t)
+            for (std::uint32_t i = 0; i < 3; ++i) {
+                const Triangle& T = r.triangles[t];
+                by_edge[dkey(T.v[(i + 1) % 3], T.v[(i + 2) % 3])] = {t, i};
+            }
+        for (TriangleId t = 0; t < r.triangles.size(); ++t)
+            for (std::uint32_t i = 0; i < 3; ++i) {
+                Triangle& T = r.triangles[t];
+                auto it = by_edge.find(dkey(T.v[(i + 2) % 3], T.v[(i + 1) % 3]));
+                if (it != by_edge.end()) T.n[i] = it->second.first;
+            }
+        for (const Constraint& c : cons_) {
+            for (auto [u, w] : {std::pair{c.a, c.b}, std::pair{c.b, c.a}}) {
+                auto it = by_edge.find(dkey(u, w));
+                if (it == by_edge.end()) continue;
+                Triangle& T = r.triangles[it->second.first];
+                const std::uint8_t bit = static_cast<std::uint8_t>(1u << it->second.second);
+                T.constrained |= bit;
+                if (c.loop) T.boundary |= bit;
+                if (c.loop) T.n[it->second.second] = kNoTriangle;
+            }
+        }
+        r.alias.resize(pts_.size());
+        std::iota(r.alias.begin(), r.alias.end(), 0u);
+        return r;
+    }
+
+    const std::vector<Vec2>& pts_;
+    const std::vector<Constraint>& cons_;
+    Observer* obs_;
+    PointTree tree_;
+    std::vector<std::uint32_t> front_degree_;
+    std::vector<char> touched_;
+    double extent_ = 1.0;
+    std::unique_ptr<SizeClasses> classes_;
+    std::vector<FrontEdge> edges_;
+    std::unordered_map<std::uint64_t, std::uint32_t> front_;
+    std::vector<std::uint32_t> stack_;
+    CellMap grid_;
+    std::array<bool, SizeClasses::kMax + 1> used_classes_{};
+    std::vector<Triangle> tris_;
+    std::vector<std::uint32_t> cand_;
+};
+
+}  // namespace
+
+TriangulationResult triangulate_advancing_front(const std::vector<Vec2>& points,
+                                                const std::vector<Constraint>& constraints, Observer* observer) {
+    DelaunayFront front(points, constraints, observer);
+    return front.run();
+}
+
+}  // namespace meshd::core

@@ -1,0 +1,342 @@
+// Incremental constrained Delaunay triangulation (the default triangulator).
+//
+// 1. Points are inserted in a biased randomised insertion order (BRIO: rounds growing
+//    eightfold, each sorted along a Hilbert curve; the points are stored in that order) into
+//    a Delaunay triangulation inside a large enclosing triangle; each point is located by a
+//    visibility walk from the previous insertion, splits its triangle (or the edge it lies
+//    on) and is legalised by Lawson flips of the edges opposite it.
+// 2. Each constraint is recovered by flipping the edges that cross it (Sloan 1993): a crossing
+//    edge whose quad is convex is flipped; if the new diagonal still crosses, it goes back in
+//    the queue. The edges made this way are then legalised. A constraint passing through
+//    another point is split there.
+// 3. A flood fill from the enclosing triangle and from the outer side of every loop segment,
+//    never crossing a loop segment, finds the outside and the holes, which are dropped.
+// All decisions are exact signs (orient2d, incircle_perturbed).
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <deque>
+#include <memory>
+
+#include "triangulation/triangle_soup.hpp"
+#include "kernel/spatial_order.hpp"
+#include "meshd/core/errors.hpp"
+#include "meshd/core/observer.hpp"
+#include "kernel/predicates.hpp"
+
+namespace meshd::core {
+
+
+
+namespace {
+
+using detail::next3;
+using detail::prev3;
+
+class IncrementalCdt {
+public:
+    // The points are stored in insertion order (BRIO), so that vertices inserted one after
+    // the other, which are near each other, are also near in memory; their input indices
+    // stay their perturbation ranks, so the result does not depend on this renumbering.
+    IncrementalCdt(const std::vector<Vec2>& input, Observer* obs) : n_(input.size()), obs_(obs) {
+        rank_ = detail::brio_order(input);
+        inverse_.resize(n_);
+        pts_.reserve(n_ + 3);
+        for (size_t k = 0; k < n_; ++k) {
+            pts_.push_back(input[rank_[k]]);
+            inverse_[rank_[k]] = static_cast<std::uint32_t>(k);
+        }
+        Box box;
+        for (const Vec2& p : input) box.add(p);
+        if (box.empty()) box.add(Vec2{0, 0});
+        const Vec2 c = 0.5 * (box.lo + box.hi);
+        const double d = std::fmax(std::fmax(box.hi.x - box.lo.x, box.hi.y - box.lo.y), 1e-300) * 64.0;
+        pts_.push_back({c.x - 2 * d, c.y - d});
+        pts_.push_back({c.x + 2 * d, c.y - d});
+        pts_.push_back({c.x, c.y + 2 * d});
+        for (size_t k = n_; k < n_ + 3; ++k) rank_.push_back(static_cast<std::uint32_t>(k));
+        tris_.reserve(2 * n_ + 16);
+        tris_.push_back({{static_cast<std::uint32_t>(n_), static_cast<std::uint32_t>(n_ + 1), static_cast<std::uint32_t>(n_ + 2)},
+                         {kNoTriangle, kNoTriangle, kNoTriangle}, 0, 0});
+        soup_ = std::make_unique<detail::TriangleSoup>(pts_, tris_, true, &rank_);
+        alias_.resize(n_);
+        for (size_t i = 0; i < n_; ++i) alias_[i] = static_cast<std::uint32_t>(i);
+    }
+
+    void insert_all() {
+        TriangleId hint = 0;
+        for (size_t k = 0; k < n_; ++k) {
+            if ((k & 4095) == 0 && obs_) {
+                if (obs_->should_stop()) throw Cancelled();
+                obs_->on_progress(Stage::Triangulation, 0.8 * static_cast<double>(k) / static_cast<double>(n_));
+            }
+            hint = insert(static_cast<std::uint32_t>(k), hint);
+        }
+    }
+
+    void recover(const std::vector<Constraint>& constraints) {
+        for (size_t k = 0; k < constraints.size(); ++k) {
+            if ((k & 1023) == 0 && obs_ && obs_->should_stop()) throw Cancelled();
+            const Constraint& c = constraints[k];
+            recover_segment(alias_[inverse_[c.a]], alias_[inverse_[c.b]], c.loop, 0);
+        }
+    }
+
+    TriangulationResult finish() {
+        // Flood fill of what goes: from the enclosing triangle's corner and from the outer
+        // side of every loop segment, never across a loop segment. This region (the outside
+        // and the holes) is usually much smaller than the domain.
+        std::vector<char> gone(tris_.size(), 0);
+        std::vector<TriangleId> stack;
+        auto seed = [&](TriangleId t) {
+            if (t == kNoTriangle || gone[t]) return;
+            gone[t] = 1;
+            stack.push_back(t);
+        };
+        seed(soup_->vertex_triangle(static_cast<std::uint32_t>(n_)));
+        std::vector<TriangleId> inner;
+        inner.reserve(loop_edges_.size());
+        for (const auto& [a, b] : loop_edges_) {
+            const auto [t, k] = soup_->find_edge(a, b);
+            MESHD_INTERNAL_CHECK(t != kNoTriangle, "a loop segment is missing after recovery");
+            inner.push_back(t);
+            seed(tris_[t].n[prev3(k)]);
+        }
+        while (!stack.empty()) {
+            const TriangleId t = stack.back();
+            stack.pop_back();
+            for (std::uint32_t i = 0; i < 3; ++i)
+                if (!edge_bit(tris_[t].boundary, i)) seed(tris_[t].n[i]);
+        }
+        for (const TriangleId t : inner)
+            MESHD_INTERNAL_CHECK(!gone[t], "the outside reached the domain: a loop is open or turns the wrong way");
+        // Compact in place (a triangle only moves down), then renumber neighbours and corners.
+        std::vector<TriangleId> remap(tris_.size(), kNoTriangle);
+        TriangleId kept = 0;
+        for (TriangleId t = 0; t < tris_.size(); ++t) {
+            if (gone[t]) continue;
+            remap[t] = kept;
+            tris_[kept++] = tris_[t];
+        }
+        tris_.resize(kept);
+        for (Triangle& t : tris_) {
+            for (auto& nb : t.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
+            for (auto& v : t.v) {
+                MESHD_INTERNAL_CHECK(v < n_, "the enclosing triangle reached the domain: a loop is open");
+                v = rank_[v];
+            }
+        }
+        TriangulationResult r;
+        r.triangles = std::move(tris_);
+        r.alias.resize(n_);
+        for (size_t i = 0; i < n_; ++i) r.alias[i] = rank_[alias_[inverse_[i]]];
+        r.stats = stats_;
+        return r;
+    }
+
+private:
+    // Visibility walk from `t` to the triangle holding p (inside or on its boundary).
+    TriangleId locate(const Vec2& p, TriangleId t) {
+        std::uint32_t r = 0;
+        for (;;) {
+            const Triangle& T = tris_[t];
+            bool moved = false;
+            r = r * 1103515245u + 12345u;  // vary the first edge tried: no cycling
+            const std::uint32_t off = (r >> 16) % 3;
+            for (std::uint32_t k = 0; k < 3; ++k) {
+                const std::uint32_t i = (off + k) % 3;
+                const Vec2& a = pts_[T.v[next3(i)]];
+                const Vec2& b = pts_[T.v[prev3(i)]];
+                if (orient2d(a, b, p) == Orientation::Right) {
+                    t = T.n[i];
+                    MESHD_INTERNAL_CHECK(t != kNoTriangle, "point outside the enclosing triangle");
+                    moved = true;
+                    ++stats_.walk_steps;
+                    break;
+                }
+            }
+            if (!moved) return t;
+        }
+    }
+
+    TriangleId insert(std::uint32_t v, TriangleId hint) {
+        const Vec2& p = pts_[v];
+        const TriangleId t = locate(p, hint);
+        Triangle& T = tris_[t];
+        int on_edge = -1;
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            if (pts_[T.v[i]] == p) {
+                alias_[v] = T.v[i];
+                ++stats_.duplicates;
+                return t;
+            }
+        }
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            if (orient2d(pts_[T.v[next3(i)]], pts_[T.v[prev3(i)]], p) == Orientation::Collinear) on_edge = static_cast<int>(i);
+        }
+        std::vector<std::pair<TriangleId, std::uint32_t>>& queue = queue_;
+        queue.clear();
+        if (on_edge < 0) soup_->split_triangle(t, v, queue);
+        else soup_->split_edge(t, static_cast<std::uint32_t>(on_edge), v, queue);
+        stats_.flips += soup_->legalize_insertion(queue);
+        return soup_->vertex_triangle(v);
+    }
+
+    void mark_constraint(std::uint32_t a, std::uint32_t b, bool loop) {
+        const auto [t, k] = soup_->find_edge(a, b);
+        MESHD_INTERNAL_CHECK(t != kNoTriangle, "constraint edge not found");
+        soup_->set_flag(t, prev3(k), true, loop || edge_bit(tris_[t].boundary, prev3(k)));
+        if (loop) loop_edges_.emplace_back(a, b);
+    }
+
+    void recover_segment(std::uint32_t a, std::uint32_t b, bool loop, int depth) {
+        if (a == b) return;
+        MESHD_INTERNAL_CHECK(depth < 100000, "constraint recovery does not terminate");
+        if (soup_->find_edge(a, b).first != kNoTriangle) {
+            mark_constraint(a, b, loop);
+            return;
+        }
+        if (soup_->find_edge(b, a).first != kNoTriangle) {
+            mark_constraint(a, b, loop);  // exists in the other direction: find_edge(a, b) fails
+            return;
+        }
+        const Vec2 pa = pts_[a], pb = pts_[b];
+        // The triangle around a whose wedge holds the direction to b.
+        TriangleId t = soup_->vertex_triangle(a);
+        const TriangleId start = t;
+        std::uint32_t l = 0, r = 0;
+        bool found = false;
+        do {
+            const Triangle& T = tris_[t];
+            const std::uint32_t k = detail::TriangleSoup::index_of(T, a);
+            const std::uint32_t v1 = T.v[next3(k)], v2 = T.v[prev3(k)];
+            const Orientation o1 = orient2d(pa, pb, pts_[v1]);
+            const Orientation o2 = orient2d(pa, pb, pts_[v2]);
+            if (o1 == Orientation::Collinear && dot(pts_[v1] - pa, pb - pa) > 0.0) {
+                // v1 lies on the segment: split there.
+                recover_segment(a, v1, loop, depth + 1);
+                recover_segment(v1, b, loop, depth + 1);
+                return;
+            }
+            if (o1 == Orientation::Right && o2 == Orientation::Left) {
+                r = v1;
+                l = v2;
+                found = true;
+                break;
+            }
+            t = T.n[next3(k)];  // counter-clockwise around a: across (v2, a)
+        } while (t != start && t != kNoTriangle);
+        MESHD_INTERNAL_CHECK(found, "constraint start not found around its vertex");
+        // Walk to b collecting the crossing edges (l left of a->b, r right of it).
+        std::deque<std::pair<std::uint32_t, std::uint32_t>> crossing;
+        crossing.emplace_back(l, r);
+        TriangleId cur = t;
+        for (;;) {
+            const Triangle& C = tris_[cur];
+            // Edge (r, l) of cur is opposite the vertex that is neither: cross it.
+            std::uint32_t opp = 0;
+            for (std::uint32_t i = 0; i < 3; ++i)
+                if (C.v[i] != l && C.v[i] != r) opp = i;
+            const TriangleId nxt = C.n[opp];
+            MESHD_INTERNAL_CHECK(nxt != kNoTriangle, "constraint walk left the triangulation");
+            const Triangle& N = tris_[nxt];
+            std::uint32_t w = 0;
+            for (std::uint32_t i = 0; i < 3; ++i)
+                if (N.v[i] != l && N.v[i] != r) w = N.v[i];
+            if (w == b) break;
+            const Orientation o = orient2d(pa, pb, pts_[w]);
+            if (o == Orientation::Collinear) {
+                // A point on the segment: recover the two halves separately.
+                recover_segment(a, w, loop, depth + 1);
+                recover_segment(w, b, loop, depth + 1);
+                return;
+            }
+            if (o == Orientation::Left) l = w; else r = w;
+            crossing.emplace_back(l, r);
+            cur = nxt;
+        }
+        // Flip the crossing edges away.
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> fresh;
+        size_t guard = 0;
+        while (!crossing.empty()) {
+            MESHD_INTERNAL_CHECK(++guard < 100000000, "constraint flipping does not terminate");
+            const auto [x, y] = crossing.front();
+            crossing.pop_front();
+            auto [et, ek] = soup_->find_edge(x, y);
+            std::uint32_t ei;
+            if (et == kNoTriangle) {
+                auto rev = soup_->find_edge(y, x);
+                et = rev.first;
+                ei = prev3(rev.second);
+            } else {
+                ei = prev3(ek);
+            }
+            MESHD_INTERNAL_CHECK(et != kNoTriangle, "crossing edge vanished");
+            const Triangle& E = tris_[et];
+            const TriangleId nb = E.n[ei];
+            const std::uint32_t p = E.v[ei];
+            const std::uint32_t q = tris_[nb].v[soup_->back_index(nb, et)];
+            const std::uint32_t s1 = E.v[next3(ei)], s2 = E.v[prev3(ei)];
+            // Convex quad p, s1, q, s2: the diagonals cross properly.
+            const bool convex = orient2d(pts_[p], pts_[q], pts_[s1]) != orient2d(pts_[p], pts_[q], pts_[s2]) &&
+                                orient2d(pts_[p], pts_[q], pts_[s1]) != Orientation::Collinear &&
+                                orient2d(pts_[p], pts_[q], pts_[s2]) != Orientation::Collinear;
+            if (!convex) {
+                crossing.emplace_back(x, y);
+                continue;
+            }
+            soup_->flip(et, ei);
+            ++stats_.flips;
+            const Orientation op = orient2d(pa, pb, pts_[p]);
+            const Orientation oq = orient2d(pa, pb, pts_[q]);
+            const bool still = op != Orientation::Collinear && oq != Orientation::Collinear && op != oq &&
+                               p != a && p != b && q != a && q != b;
+            if (still) crossing.emplace_back(op == Orientation::Left ? p : q, op == Orientation::Left ? q : p);
+            else fresh.emplace_back(p, q);
+        }
+        mark_constraint(a, b, loop);
+        // Legalise the new edges (except the constraint itself).
+        queue_.clear();
+        for (const auto& [x, y] : fresh) {
+            if ((x == a && y == b) || (x == b && y == a)) continue;
+            auto [et, ek] = soup_->find_edge(x, y);
+            if (et != kNoTriangle) queue_.emplace_back(et, prev3(ek));
+        }
+        stats_.flips += soup_->legalize(queue_);
+    }
+
+    size_t n_;
+    Observer* obs_;
+    std::vector<Vec2> pts_;
+    std::vector<Triangle> tris_;
+    std::unique_ptr<detail::TriangleSoup> soup_;
+    std::vector<std::uint32_t> rank_;     // internal index -> input index (and perturbation rank)
+    std::vector<std::uint32_t> inverse_;  // input index -> internal index
+    std::vector<std::uint32_t> alias_;    // internal index -> the internal index it coincides with
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> loop_edges_;
+    std::vector<std::pair<TriangleId, std::uint32_t>> queue_;
+    TriangulationStats stats_;
+};
+
+}  // namespace
+
+TriangulationResult triangulate_delaunay(const std::vector<Vec2>& points,
+                                         const std::vector<Constraint>& constraints, Observer* observer) {
+    IncrementalCdt b(points, observer);
+    b.insert_all();
+    b.recover(constraints);
+    return b.finish();
+}
+
+std::uint64_t make_delaunay(const std::vector<Vec2>& points, std::vector<Triangle>& triangles) {
+    detail::TriangleSoup soup(points, triangles, false);
+    std::vector<std::pair<TriangleId, std::uint32_t>> queue;
+    queue.reserve(3 * triangles.size());
+    for (TriangleId t = 0; t < triangles.size(); ++t)
+        for (std::uint32_t i = 0; i < 3; ++i)
+            if (triangles[t].n[i] != kNoTriangle && triangles[t].n[i] > t) queue.emplace_back(t, i);
+    return soup.legalize(queue);
+}
+
+}  // namespace meshd::core

@@ -1,0 +1,282 @@
+// The triangle soup of triangle_soup.hpp: flips, splits, Lawson legalisation, edge lookup.
+
+#include "triangulation/triangle_soup.hpp"
+
+#include <algorithm>
+
+#include "kernel/predicates.hpp"
+#include "meshd/core/errors.hpp"
+
+namespace meshd::core {
+
+namespace detail {
+
+std::uint32_t TriangleSoup::back_index(TriangleId u, TriangleId t) const {
+    const Triangle& tu = t_[u];
+    return tu.n[0] == t ? 0u : (tu.n[1] == t ? 1u : 2u);
+}
+
+void TriangleSoup::set_flag(TriangleId t, std::uint32_t i, bool constrained, bool boundary) {
+    auto set = [&](TriangleId tt, std::uint32_t ii) {
+        const std::uint8_t bit = static_cast<std::uint8_t>(1u << ii);
+        t_[tt].constrained = static_cast<std::uint8_t>(constrained ? (t_[tt].constrained | bit) : (t_[tt].constrained & ~bit));
+        t_[tt].boundary = static_cast<std::uint8_t>(boundary ? (t_[tt].boundary | bit) : (t_[tt].boundary & ~bit));
+    };
+    set(t, i);
+    const TriangleId u = t_[t].n[i];
+    if (u != kNoTriangle) set(u, back_index(u, t));
+}
+
+/* Before:                         After:
+          c                             c
+        / | \                         /   \
+      p   |   q      flip edge      p ----- q
+        \ | /        b-c  =>          \   /
+          b                             b
+   t = (p, b, c), u = (q, c, b)    t = (p, b, q), u = (p, q, c) */
+void TriangleSoup::flip(TriangleId t, std::uint32_t i) {
+    Triangle& T = t_[t];
+    const TriangleId u = T.n[i];
+    const std::uint32_t j = back_index(u, t);
+    Triangle& U = t_[u];
+    const std::uint32_t p = T.v[i], b = T.v[next3(i)], c = T.v[prev3(i)];
+    const std::uint32_t q = U.v[j];
+    // Outer neighbours and their edge flags.
+    const TriangleId n_pb = T.n[prev3(i)];   // across (p, b), opposite c in t
+    const TriangleId n_cp = T.n[next3(i)];   // across (c, p), opposite b in t
+    const TriangleId n_bq = U.n[next3(j)];   // across (b, q), opposite c in u
+    const TriangleId n_qc = U.n[prev3(j)];   // across (q, c), opposite b in u
+    const std::uint32_t cons_t = T.constrained, bnd_t = T.boundary;
+    const std::uint32_t cons_u = U.constrained, bnd_u = U.boundary;
+    auto bit = [](std::uint32_t flags, std::uint32_t k) { return (flags >> k) & 1u; };
+    const std::uint32_t c_pb = bit(cons_t, prev3(i)), b_pb = bit(bnd_t, prev3(i));
+    const std::uint32_t c_cp = bit(cons_t, next3(i)), b_cp = bit(bnd_t, next3(i));
+    const std::uint32_t c_bq = bit(cons_u, next3(j)), b_bq = bit(bnd_u, next3(j));
+    const std::uint32_t c_qc = bit(cons_u, prev3(j)), b_qc = bit(bnd_u, prev3(j));
+    // t = (p, b, q): opp p (b,q) -> n_bq; opp b (q,p) -> u; opp q (p,b) -> n_pb.
+    T.v = {p, b, q};
+    T.n = {n_bq, u, n_pb};
+    T.constrained = static_cast<std::uint8_t>(c_bq | (c_pb << 2));
+    T.boundary = static_cast<std::uint8_t>(b_bq | (b_pb << 2));
+    // u = (p, q, c): opp p (q,c) -> n_qc; opp q (c,p) -> n_cp; opp c (p,q) -> t.
+    U.v = {p, q, c};
+    U.n = {n_qc, n_cp, t};
+    U.constrained = static_cast<std::uint8_t>(c_qc | (c_cp << 1));
+    U.boundary = static_cast<std::uint8_t>(b_qc | (b_cp << 1));
+    if (n_bq != kNoTriangle) t_[n_bq].n[back_index(n_bq, u)] = t;
+    if (n_cp != kNoTriangle) t_[n_cp].n[back_index(n_cp, t)] = u;
+    if (track_) {
+        vtri_[p] = t;
+        vtri_[b] = t;
+        vtri_[q] = u;
+        vtri_[c] = u;
+    }
+}
+
+bool TriangleSoup::illegal(TriangleId t, std::uint32_t i) const {
+    const Triangle& T = t_[t];
+    const TriangleId u = T.n[i];
+    if (u == kNoTriangle || edge_bit(T.constrained, i)) return false;
+    const std::uint32_t q = t_[u].v[back_index(u, t)];
+    const Vec2 a = pts_[T.v[0]], b = pts_[T.v[1]], c = pts_[T.v[2]], d = pts_[q];
+    const int s = incircle(a, b, c, d);
+    if (s != 0) return s > 0;
+    auto rank = [&](std::uint32_t v) { return rank_ ? (*rank_)[v] : v; };
+    return detail::incircle_tie(a, b, c, d, rank(T.v[0]), rank(T.v[1]), rank(T.v[2]), rank(q)) > 0;
+}
+
+template <bool kInsertion>
+std::uint64_t TriangleSoup::lawson(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
+                                   std::vector<TriangleId>* changed) {
+    std::uint64_t flips = 0;
+    while (!queue.empty()) {
+        const auto [t, i] = queue.back();
+        queue.pop_back();
+        if (!illegal(t, i)) continue;
+        const TriangleId u = t_[t].n[i];
+        flip(t, i);  // p = old t.v[i] is now v[0] of both t = (p, b, q) and u = (p, q, c)
+        ++flips;
+        if (changed) {
+            changed->push_back(t);
+            changed->push_back(u);
+        }
+        // The outer edges of the quad: t's edges 0 and 2, u's edges 0 and 1; after an
+        // insertion only those opposite p (t's 0, u's 0) can be illegal.
+        if (kInsertion) {
+            queue.emplace_back(t, 0);
+            queue.emplace_back(u, 0);
+        } else {
+            queue.emplace_back(t, 0);
+            queue.emplace_back(t, 2);
+            queue.emplace_back(u, 0);
+            queue.emplace_back(u, 1);
+        }
+    }
+    return flips;
+}
+
+std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
+                                     std::vector<TriangleId>* changed) {
+    return lawson<false>(queue, changed);
+}
+
+std::uint64_t TriangleSoup::legalize_insertion(std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
+    return lawson<true>(queue, nullptr);
+}
+
+std::pair<TriangleId, std::uint32_t> TriangleSoup::find_edge(std::uint32_t a, std::uint32_t b) const {
+    const TriangleId start = vtri_[a];
+    if (start == kNoTriangle) return {kNoTriangle, 0};
+    // Clockwise around a first (across the edge (a, v[k+1])), then counter-clockwise, so
+    // that a vertex on the outer boundary (open fan) is fully covered.
+    TriangleId t = start;
+    do {
+        const std::uint32_t k = index_of(t_[t], a);
+        if (t_[t].v[next3(k)] == b) return {t, k};
+        t = t_[t].n[prev3(k)];
+    } while (t != kNoTriangle && t != start);
+    if (t == start) return {kNoTriangle, 0};
+    t = start;
+    for (;;) {
+        const std::uint32_t k = index_of(t_[t], a);
+        const TriangleId nt = t_[t].n[next3(k)];
+        if (nt == kNoTriangle) break;
+        t = nt;
+        const std::uint32_t kk = index_of(t_[t], a);
+        if (t_[t].v[next3(kk)] == b) return {t, kk};
+    }
+    return {kNoTriangle, 0};
+}
+
+void TriangleSoup::rebuild_vertex_index() {
+    std::uint32_t max_v = 0;
+    for (const auto& t : t_)
+        for (auto v : t.v) max_v = std::max(max_v, v);
+    vtri_.assign(std::max<size_t>(pts_.size(), static_cast<size_t>(max_v) + 1), kNoTriangle);
+    for (TriangleId t = 0; t < t_.size(); ++t)
+        for (auto v : t_[t].v) vtri_[v] = t;
+}
+
+namespace {
+std::uint32_t bit(std::uint8_t flags, std::uint32_t i) { return edge_bit(flags, i) ? 1u : 0u; }
+}  // namespace
+
+TriangleId TriangleSoup::new_triangle() {
+    t_.push_back({});
+    return static_cast<TriangleId>(t_.size() - 1);
+}
+
+
+void TriangleSoup::relink(TriangleId nb, TriangleId old_t, TriangleId new_t) {
+    if (nb == kNoTriangle) return;
+    Triangle& N = t_[nb];
+    for (auto& x : N.n)
+        if (x == old_t) { x = new_t; return; }
+}
+
+
+void TriangleSoup::split_triangle(TriangleId t, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
+    const Triangle T = t_[t];
+    const std::uint32_t a = T.v[0], b = T.v[1], c = T.v[2];
+    const TriangleId t_ab = t, t_bc = new_triangle(), t_ca = new_triangle();
+    // (a, b, p): opp a (b,p) -> t_bc; opp b (p,a) -> t_ca; opp p (a,b) -> T.n[2]
+    t_[t_ab] = {{a, b, p}, {t_bc, t_ca, T.n[2]}, static_cast<std::uint8_t>(bit(T.constrained, 2) << 2),
+                   static_cast<std::uint8_t>(bit(T.boundary, 2) << 2)};
+    // (b, c, p): opp b (c,p) -> t_ca; opp c (p,b) -> t_ab; opp p (b,c) -> T.n[0]
+    t_[t_bc] = {{b, c, p}, {t_ca, t_ab, T.n[0]}, static_cast<std::uint8_t>(bit(T.constrained, 0) << 2),
+                   static_cast<std::uint8_t>(bit(T.boundary, 0) << 2)};
+    // (c, a, p): opp c (a,p) -> t_ab; opp a (p,c) -> t_bc; opp p (c,a) -> T.n[1]
+    t_[t_ca] = {{c, a, p}, {t_ab, t_bc, T.n[1]}, static_cast<std::uint8_t>(bit(T.constrained, 1) << 2),
+                   static_cast<std::uint8_t>(bit(T.boundary, 1) << 2)};
+    relink(T.n[0], t, t_bc);
+    relink(T.n[1], t, t_ca);
+    touch(t_ab);
+    touch(t_bc);
+    touch(t_ca);
+    // Rotate each so that p is at index 0 for legalize's convention? legalize works with
+    // any (t, i): the edge opposite p is index 2 here.
+    queue.emplace_back(t_ab, 2);
+    queue.emplace_back(t_bc, 2);
+    queue.emplace_back(t_ca, 2);
+}
+
+void TriangleSoup::split_edge(TriangleId t, std::uint32_t i, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
+    const Triangle T = t_[t];
+    const std::uint32_t a = T.v[i], b = T.v[next3(i)], c = T.v[prev3(i)];
+    const TriangleId u = T.n[i];
+    if (u == kNoTriangle) {
+        // An edge on the boundary of the mesh: only t splits.
+        const std::uint32_t e_cons = bit(T.constrained, i), e_bnd = bit(T.boundary, i);
+        const TriangleId n_ab = T.n[prev3(i)], n_ca = T.n[next3(i)];
+        const std::uint32_t c_ab = bit(T.constrained, prev3(i)), b_ab = bit(T.boundary, prev3(i));
+        const std::uint32_t c_ca = bit(T.constrained, next3(i)), b_ca = bit(T.boundary, next3(i));
+        const TriangleId t1 = t, t2 = new_triangle();
+        auto flags = [](std::uint32_t f0, std::uint32_t f1, std::uint32_t f2) {
+            return static_cast<std::uint8_t>(f0 | (f1 << 1) | (f2 << 2));
+        };
+        t_[t1] = {{a, b, p}, {kNoTriangle, t2, n_ab}, flags(e_cons, 0, c_ab), flags(e_bnd, 0, b_ab)};
+        t_[t2] = {{a, p, c}, {kNoTriangle, n_ca, t1}, flags(e_cons, c_ca, 0), flags(e_bnd, b_ca, 0)};
+        relink(n_ca, t, t2);
+        touch(t1);
+        touch(t2);
+        queue.emplace_back(t1, 2);
+        queue.emplace_back(t2, 1);
+        return;
+    }
+    const Triangle U = t_[u];
+    const std::uint32_t j = back_index(u, t);
+    const std::uint32_t d = U.v[j];
+    const std::uint32_t e_cons = bit(T.constrained, i), e_bnd = bit(T.boundary, i);
+    const TriangleId n_ab = T.n[prev3(i)], n_ca = T.n[next3(i)];
+    const std::uint32_t c_ab = bit(T.constrained, prev3(i)), b_ab = bit(T.boundary, prev3(i));
+    const std::uint32_t c_ca = bit(T.constrained, next3(i)), b_ca = bit(T.boundary, next3(i));
+    // In u = (d, c, b): across (d, c) is opposite b = U.n[prev3(j)], across (b, d) opposite c = U.n[next3(j)].
+    const TriangleId n_dc = U.n[prev3(j)], n_bd = U.n[next3(j)];
+    const std::uint32_t c_dc = bit(U.constrained, prev3(j)), b_dc = bit(U.boundary, prev3(j));
+    const std::uint32_t c_bd = bit(U.constrained, next3(j)), b_bd = bit(U.boundary, next3(j));
+    const TriangleId t1 = t, t2 = new_triangle(), t3 = u, t4 = new_triangle();
+    auto flags = [](std::uint32_t f0, std::uint32_t f1, std::uint32_t f2) {
+        return static_cast<std::uint8_t>(f0 | (f1 << 1) | (f2 << 2));
+    };
+    // t1 = (a, b, p): opp a (b,p) -> t4; opp b (p,a) -> t2; opp p (a,b) -> n_ab
+    t_[t1] = {{a, b, p}, {t4, t2, n_ab}, flags(e_cons, 0, c_ab), flags(e_bnd, 0, b_ab)};
+    // t2 = (a, p, c): opp a (p,c) -> t3; opp p (c,a) -> n_ca; opp c (a,p) -> t1
+    t_[t2] = {{a, p, c}, {t3, n_ca, t1}, flags(e_cons, c_ca, 0), flags(e_bnd, b_ca, 0)};
+    // t3 = (d, c, p): opp d (c,p) -> t2; opp c (p,d) -> t4; opp p (d,c) -> n_dc
+    t_[t3] = {{d, c, p}, {t2, t4, n_dc}, flags(e_cons, 0, c_dc), flags(e_bnd, 0, b_dc)};
+    // t4 = (d, p, b): opp d (p,b) -> t1; opp p (b,d) -> n_bd; opp b (d,p) -> t3
+    t_[t4] = {{d, p, b}, {t1, n_bd, t3}, flags(e_cons, c_bd, 0), flags(e_bnd, b_bd, 0)};
+    relink(n_ca, t, t2);
+    relink(n_bd, u, t4);
+    for (TriangleId x : {t1, t2, t3, t4}) touch(x);
+    queue.emplace_back(t1, 2);
+    queue.emplace_back(t2, 1);
+    queue.emplace_back(t3, 2);
+    queue.emplace_back(t4, 1);
+}
+
+
+void order_by_largest_corner(std::vector<Triangle>& tris, size_t point_count) {
+    std::vector<std::uint32_t> start(point_count + 1, 0);
+    auto corner = [](const Triangle& t) { return std::max({t.v[0], t.v[1], t.v[2]}); };
+    for (const Triangle& t : tris) ++start[corner(t)];
+    std::uint32_t sum = 0;
+    for (auto& c : start) {
+        const std::uint32_t n = c;
+        c = sum;
+        sum += n;
+    }
+    std::vector<TriangleId> remap(tris.size());
+    for (TriangleId t = 0; t < tris.size(); ++t) remap[t] = start[corner(tris[t])]++;
+    std::vector<Triangle> out(tris.size());
+    for (TriangleId t = 0; t < tris.size(); ++t) {
+        Triangle& o = out[remap[t]];
+        o = tris[t];
+        for (auto& nb : o.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
+    }
+    tris = std::move(out);
+}
+
+}  // namespace detail
+
+}  // namespace meshd::core

@@ -1,0 +1,98 @@
+#pragma once
+// The triangle soup with adjacency shared by both triangulators, the smoothing stage and
+// mesh checks: rotations, flips, edge lookups, Lawson legalisation.
+
+#include <cstdint>
+#include <vector>
+
+#include "triangulation/triangulation.hpp"
+
+namespace meshd::core::detail {
+
+inline std::uint32_t next3(std::uint32_t i) { return i == 2 ? 0 : i + 1; }
+inline std::uint32_t prev3(std::uint32_t i) { return i == 0 ? 2 : i - 1; }
+
+class TriangleSoup {
+public:
+    /// `rank`, when given, is the symbolic-perturbation rank of every vertex (default: the
+    /// vertex index itself).
+    TriangleSoup(const std::vector<Vec2>& points, std::vector<Triangle>& tris, bool track_vertices,
+                 const std::vector<std::uint32_t>* rank = nullptr)
+        : pts_(points), t_(tris), track_(track_vertices), rank_(rank) {
+        if (track_) rebuild_vertex_index();
+    }
+
+    const Vec2& p(std::uint32_t v) const { return pts_[v]; }
+    std::vector<Triangle>& tris() { return t_; }
+
+    /// Index of vertex v in triangle t (which must contain it).
+    static std::uint32_t index_of(const Triangle& t, std::uint32_t v) {
+        return t.v[0] == v ? 0u : (t.v[1] == v ? 1u : 2u);
+    }
+    /// Index in u of the edge shared with t.
+    std::uint32_t back_index(TriangleId u, TriangleId t) const;
+
+    bool constrained(TriangleId t, std::uint32_t i) const { return edge_bit(t_[t].constrained, i); }
+    void set_flag(TriangleId t, std::uint32_t i, bool constrained, bool boundary);
+
+    /// Flips edge i of t (t and its neighbour must form a convex quad; the edge must not be
+    /// constrained). Afterwards t holds (p, b, q) and the neighbour (p, q, c) where p = old
+    /// t.v[i], q the neighbour's opposite vertex, and both have p... see cdt.cpp.
+    void flip(TriangleId t, std::uint32_t i);
+
+    /// True when edge i of t is not locally Delaunay (perturbed, ranks = vertex ids).
+    bool illegal(TriangleId t, std::uint32_t i) const;
+
+    /// Lawson: flips until every edge in the queue (and every edge touched by a flip) is
+    /// locally Delaunay. Edges as (triangle, index). Returns the number of flips; the two
+    /// triangles of every flip are appended to `changed` when given.
+    std::uint64_t legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
+                           std::vector<TriangleId>* changed = nullptr);
+
+    /// legalize() after inserting a point p, for a queue of edges (t, i) with t.v[i] == p
+    /// (as split_triangle and split_edge leave it). Edges incident to p are Delaunay, so only
+    /// the two new edges opposite p are tested after a flip: half the in-circle tests.
+    std::uint64_t legalize_insertion(std::vector<std::pair<TriangleId, std::uint32_t>>& queue);
+
+    /// The triangle holding the directed edge a -> b (a at index k, b at k+1), or kNoTriangle.
+    /// Needs the vertex index.
+    std::pair<TriangleId, std::uint32_t> find_edge(std::uint32_t a, std::uint32_t b) const;
+
+    /// Inserts vertex p inside triangle t (three triangles) or on its edge i (the two
+    /// triangles across it become four; a constrained edge stays constrained in its halves).
+    /// Queues the edges opposite p for legalize().
+    void split_triangle(TriangleId t, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue);
+    void split_edge(TriangleId t, std::uint32_t i, std::uint32_t p, std::vector<std::pair<TriangleId, std::uint32_t>>& queue);
+
+    TriangleId vertex_triangle(std::uint32_t v) const { return vtri_[v]; }
+    /// Room in the vertex index for points added after construction.
+    void grow_vertices(size_t n) {
+        if (track_ && vtri_.size() < n) vtri_.resize(n, kNoTriangle);
+    }
+    void set_vertex_triangle(std::uint32_t v, TriangleId t) {
+        if (track_) vtri_[v] = t;
+    }
+    void touch(TriangleId t) {
+        if (track_)
+            for (auto v : t_[t].v) vtri_[v] = t;
+    }
+    void rebuild_vertex_index();
+
+private:
+    template <bool kInsertion>
+    std::uint64_t lawson(std::vector<std::pair<TriangleId, std::uint32_t>>& queue, std::vector<TriangleId>* changed);
+    TriangleId new_triangle();
+    void relink(TriangleId nb, TriangleId old_t, TriangleId new_t);
+
+    const std::vector<Vec2>& pts_;
+    std::vector<Triangle>& t_;
+    bool track_;
+    const std::vector<std::uint32_t>* rank_;
+    std::vector<TriangleId> vtri_;
+};
+
+/// Puts triangles in the order of their largest corner index (neighbours renumbered): with
+/// points in a spatial order, the triangles around a point then lie near each other in memory.
+void order_by_largest_corner(std::vector<Triangle>& tris, size_t point_count);
+
+}  // namespace meshd::core::detail

@@ -1,0 +1,54 @@
+#pragma once
+/// Constrained Delaunay triangulation (CDT) of a point set with constraint segments and
+/// holes, built incrementally.
+///
+/// Every in-circle decision goes through incircle_perturbed() with the vertex index as rank,
+/// so the result is the unique CDT under that perturbation: cocircular input gives the same
+/// triangles whatever the insertion order or algorithm.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "meshd/core/mesh.hpp"
+#include "meshd/core/mesher.hpp"
+#include "meshd/core/observer.hpp"
+
+namespace meshd::core {
+
+
+/// A constraint: a -> b. Loop segments have the domain on their left and bound the flood
+/// fill that removes holes; embedded segments are kept as edges but do not bound anything.
+struct Constraint {
+    std::uint32_t a, b;
+    bool loop;
+};
+
+/// The triangles of the CDT of `points` that lie inside the loops, with their adjacency
+/// (kNoTriangle across loop segments). Points in insertion-independent order; every
+/// constraint is an edge of the result (a constraint through another input point is split
+/// there). Throws InternalError on a broken invariant. O(n log n) expected.
+struct TriangulationResult {
+    std::vector<Triangle> triangles;
+    /// Points of the input that coincide with an earlier point are merged into it:
+    /// alias[i] = i for every kept point.
+    std::vector<std::uint32_t> alias;
+    TriangulationStats stats;
+};
+TriangulationResult triangulate_delaunay(const std::vector<Vec2>& points,
+                                         const std::vector<Constraint>& constraints,
+                                         Observer* observer = nullptr);
+
+/// The paper's triangulator (section 5, after Lo 1989): the Delaunay advancing front. For
+/// the last front edge AB, the visible point C on its left whose circle through A, B, C
+/// holds no other visible candidate forms ABC; the candidate search is local (a grid) and
+/// widens until a point is found. Gives the same triangles as triangulate_delaunay().
+TriangulationResult triangulate_advancing_front(const std::vector<Vec2>& points,
+                                                const std::vector<Constraint>& constraints,
+                                                Observer* observer = nullptr);
+
+/// Restores the constrained Delaunay property by flipping unconstrained edges (after
+/// smoothing moved points). Returns the number of flips.
+std::uint64_t make_delaunay(const std::vector<Vec2>& points, std::vector<Triangle>& triangles);
+
+}  // namespace meshd::core
