@@ -286,6 +286,56 @@ int nesting_depth(std::string_view s) {
     return worst;
 }
 
+// Finds the first member name that occurs twice in one object (RFC 8259 leaves the meaning
+// of such a document open: one of the two would be dropped silently), as the JSON pointer
+// of the second occurrence. Fed by the parser's events.
+class DuplicateNames {
+public:
+    bool on_event(json::parse_event_t event, const json& parsed) {
+        using E = json::parse_event_t;
+        switch (event) {
+            case E::object_start: stack_.push_back({false, 0, {}, {}}); break;
+            case E::array_start: stack_.push_back({true, 0, {}, {}}); break;
+            case E::key: {
+                Frame& f = stack_.back();
+                f.key = parsed.get<std::string>();
+                if (!f.seen.insert(f.key).second && !found_) {
+                    found_ = pointer();
+                    name_ = f.key;
+                }
+                break;
+            }
+            case E::object_end:
+            case E::array_end:
+                stack_.pop_back();
+                [[fallthrough]];
+            case E::value:
+                if (!stack_.empty() && stack_.back().array) ++stack_.back().index;
+                break;
+        }
+        return true;
+    }
+    /// The pointer of the repeated member, and its name.
+    const std::optional<std::string>& found() const { return found_; }
+    const std::string& name() const { return name_; }
+
+private:
+    struct Frame {
+        bool array;
+        size_t index;             // arrays: the element being read
+        std::string key;          // objects: the member being read
+        std::set<std::string> seen;
+    };
+    std::string pointer() const {
+        std::string p;
+        for (const Frame& f : stack_) p += "/" + (f.array ? std::to_string(f.index) : pointer_token(f.key));
+        return p;
+    }
+    std::vector<Frame> stack_;
+    std::optional<std::string> found_;
+    std::string name_;
+};
+
 }  // namespace
 
 MeshRequest parse_request(std::string_view body) {
@@ -293,12 +343,19 @@ MeshRequest parse_request(std::string_view body) {
         throw bad_request("too-deep", "Malformed request",
                           "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels", "");
     json j;
+    DuplicateNames duplicates;
     try {
-        j = json::parse(body.begin(), body.end());
+        j = json::parse(body.begin(), body.end(), [&](int, json::parse_event_t event, json& parsed) {
+            return duplicates.on_event(event, parsed);
+        });
     } catch (const json::parse_error& e) {
         throw bad_request("malformed-json", "Malformed request",
                           "the body is not valid JSON (at byte " + std::to_string(e.byte) + ")", "");
     }
+    if (const auto& where = duplicates.found())
+        throw bad_request("duplicate-field", "Invalid request",
+                          "the name \"" + duplicates.name() + "\" occurs twice in one object",
+                          *where);
     MeshRequest r;
     expect_object(j, "", {"geometry", "density", "options"});
     if (!j.contains("geometry")) fail("/geometry", "the request needs \"geometry\"", "missing-field");

@@ -76,6 +76,12 @@ case("NaN literal", 400, "", raw=json.dumps(BASE).replace("[1, 0]", "[NaN, 0]"))
 case("trailing garbage", 400, "", raw=json.dumps(BASE) + " }")
 case("deep nesting", 400, "", raw="[" * 5000 + "]" * 5000)
 case("empty body", 400, "", raw="")
+case("a point named twice", 400, "/geometry/points/A",
+     raw=json.dumps(BASE).replace('"A": [0, 0],', '"A": [0, 0], "A": [0.5, 0],'))
+case("a curve member named twice", 400, "/geometry/curves/right/to",
+     raw=json.dumps(BASE).replace('"to": "C"}', '"to": "C", "to": "D"}'))
+case("an option named twice", 400, "/options/smoothing_iterations",
+     raw=json.dumps(BASE)[:-1] + ', "options": {"smoothing_iterations": 1, "smoothing_iterations": 2}}')
 # Shape of the request
 case("unknown top-level field", 400, "/extra", setp(["extra"], 1))
 case("missing geometry", 400, "/geometry", delp(["geometry"]))

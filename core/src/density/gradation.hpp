@@ -22,7 +22,6 @@ public:
     GradationField(std::vector<Vec2> sources, std::vector<double> sizes, double ratio);
     /// min_i (h_i + (g - 1) |x - s_i|).
     double operator()(Vec2 x) const;
-    size_t size() const { return pts_.size(); }
 
 private:
     struct Node {

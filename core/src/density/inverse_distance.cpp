@@ -21,7 +21,7 @@ double delta_of(double theta) {
 
 InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector<double> values,
                                            double tolerance)
-    : a_(std::move(starts)), rho_(std::move(values)), tolerance_(tolerance) {
+    : a_(std::move(starts)), rho_(std::move(values)) {
     MESHD_INTERNAL_CHECK(a_.size() == rho_.size() && !a_.empty(), "eq. 6.1 needs sources");
     MESHD_INTERNAL_CHECK(tolerance > 0.0 && tolerance < 1.0, "tolerance out of range");
     // Largest theta whose per-sum bound keeps the ratio within the tolerance.

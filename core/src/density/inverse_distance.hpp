@@ -30,8 +30,6 @@ public:
     double operator()(Vec2 p) const;
     /// The formula summed term by term, O(N): the reference for tests.
     double exact(Vec2 p) const;
-    double tolerance() const { return tolerance_; }
-    double opening_ratio() const { return theta_; }
 
 private:
     struct Node {
@@ -44,7 +42,7 @@ private:
     std::vector<Vec2> a_;
     std::vector<double> rho_;
     std::vector<Node> nodes_;
-    double tolerance_, theta_;
+    double theta_;  // the opening angle that keeps the relative error within the tolerance
 };
 
 }  // namespace meshd::core

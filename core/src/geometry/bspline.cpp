@@ -17,14 +17,9 @@ namespace {
 
 Vec2 de_boor(const std::vector<Vec2>& ctrl, const double* knots, int p, size_t k,
              double t) {
-    // k is the knot span: knots[k] <= t < knots[k+1], p <= k <= n.
-    Vec2 d[16];
-    std::vector<Vec2> heap;
-    Vec2* work = d;
-    if (p + 1 > 16) {
-        heap.resize(static_cast<size_t>(p) + 1);
-        work = heap.data();
-    }
+    // k is the knot span: knots[k] <= t < knots[k+1], p <= k <= n. make_bspline refuses
+    // degrees above kMaxDegree, so the work array fits on the stack.
+    Vec2 work[BSplineCurve::kMaxDegree + 1];
     const size_t up = static_cast<size_t>(p);
     for (size_t j = 0; j <= up; ++j) work[j] = ctrl[k - up + j];
     for (size_t r = 1; r <= up; ++r) {
@@ -166,7 +161,7 @@ std::vector<double> BSplineCurve::paper_knots(const std::vector<Vec2>& ctrl, int
 
 std::unique_ptr<Curve> make_bspline(std::vector<Vec2> ctrl, int degree,
                                     std::optional<std::vector<double>> knots) {
-    if (degree < 1 || degree > 15)
+    if (degree < 1 || degree > BSplineCurve::kMaxDegree)
         throw GeometryError(GeometryErrorKind::BadDegree,
                             "B-spline degree must be between 1 and 15, got " +
                                 std::to_string(degree),

@@ -15,6 +15,9 @@ namespace meshd::core {
 
 class BSplineCurve final : public Curve {
 public:
+    /// Highest degree make_bspline accepts.
+    static constexpr int kMaxDegree = 15;
+
     /// Preconditions (checked by make_bspline, not here): n + 1 >= p + 1, knots clamped and
     /// non-decreasing, size n + p + 2.
     BSplineCurve(std::vector<Vec2> control_points, int degree, std::vector<double> knots,

@@ -14,18 +14,6 @@
 
 namespace meshd::core {
 
-const char* to_string(CurveType type) {
-    switch (type) {
-        case CurveType::Line: return "line";
-        case CurveType::Arc: return "arc";
-        case CurveType::BSpline: return "bspline";
-        case CurveType::Spline: return "spline";
-        case CurveType::Naca: return "naca";
-        case CurveType::Airfoil: return "airfoil";
-    }
-    return "?";
-}
-
 namespace {
 
 // 8-point Gauss-Legendre rule on [-1, 1]: exact for polynomials of degree 15.

@@ -140,7 +140,7 @@ Domain build_domain(const DomainSpec& spec) {
             throw GeometryError(K::NonFinite,
                                 "point " + quoted(name) + " is too far out (coordinates beyond 1e30)",
                                 {Subject::point(name)});
-        if (point_index.count(name)) continue;  // the request layer refuses duplicate keys
+        if (point_index.count(name)) continue;  // the first of two equal names (api refuses them)
         point_index[name] = static_cast<PointId>(d.points_.size());
         d.points_.push_back({name, p});
     }

@@ -1,5 +1,5 @@
-// Mesh invariants, exactly: what the tests, the debug builds and the pipeline's own final
-// assertion rely on.
+// Mesh invariants, checked exactly (check_mesh, mesh.hpp). The pipeline does not call it
+// (its stages keep the invariants by construction); the tests call it on every mesh.
 
 #include <algorithm>
 #include <unordered_set>

@@ -329,14 +329,4 @@ TriangulationResult triangulate_delaunay(const std::vector<Vec2>& points,
     return b.finish();
 }
 
-std::uint64_t make_delaunay(const std::vector<Vec2>& points, std::vector<Triangle>& triangles) {
-    detail::TriangleSoup soup(points, triangles, false);
-    std::vector<std::pair<TriangleId, std::uint32_t>> queue;
-    queue.reserve(3 * triangles.size());
-    for (TriangleId t = 0; t < triangles.size(); ++t)
-        for (std::uint32_t i = 0; i < 3; ++i)
-            if (triangles[t].n[i] != kNoTriangle && triangles[t].n[i] > t) queue.emplace_back(t, i);
-    return soup.legalize(queue);
-}
-
 }  // namespace meshd::core

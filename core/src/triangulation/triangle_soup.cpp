@@ -193,8 +193,7 @@ void TriangleSoup::split_triangle(TriangleId t, std::uint32_t p, std::vector<std
     touch(t_ab);
     touch(t_bc);
     touch(t_ca);
-    // Rotate each so that p is at index 0 for legalize's convention? legalize works with
-    // any (t, i): the edge opposite p is index 2 here.
+    // In each new triangle p is v[2]: the edge opposite p, the one to test, is edge 2.
     queue.emplace_back(t_ab, 2);
     queue.emplace_back(t_bc, 2);
     queue.emplace_back(t_ca, 2);

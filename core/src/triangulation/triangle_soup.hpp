@@ -36,8 +36,9 @@ public:
     void set_flag(TriangleId t, std::uint32_t i, bool constrained, bool boundary);
 
     /// Flips edge i of t (t and its neighbour must form a convex quad; the edge must not be
-    /// constrained). Afterwards t holds (p, b, q) and the neighbour (p, q, c) where p = old
-    /// t.v[i], q the neighbour's opposite vertex, and both have p... see cdt.cpp.
+    /// constrained). With t = (p, b, c) rotated so that p = t.v[i], and q the neighbour's
+    /// vertex opposite the edge, afterwards t = (p, b, q) and the neighbour u = (p, q, c): p is
+    /// v[0] of both (the drawing is above TriangleSoup::flip in triangle_soup.cpp).
     void flip(TriangleId t, std::uint32_t i);
 
     /// True when edge i of t is not locally Delaunay (perturbed, ranks = vertex ids).
@@ -68,9 +69,6 @@ public:
     /// Room in the vertex index for points added after construction.
     void grow_vertices(size_t n) {
         if (track_ && vtri_.size() < n) vtri_.resize(n, kNoTriangle);
-    }
-    void set_vertex_triangle(std::uint32_t v, TriangleId t) {
-        if (track_) vtri_[v] = t;
     }
     void touch(TriangleId t) {
         if (track_)

@@ -47,8 +47,4 @@ TriangulationResult triangulate_advancing_front(const std::vector<Vec2>& points,
                                                 const std::vector<Constraint>& constraints,
                                                 Observer* observer = nullptr);
 
-/// Restores the constrained Delaunay property by flipping unconstrained edges (after
-/// smoothing moved points). Returns the number of flips.
-std::uint64_t make_delaunay(const std::vector<Vec2>& points, std::vector<Triangle>& triangles);
-
 }  // namespace meshd::core

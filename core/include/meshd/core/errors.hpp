@@ -97,9 +97,6 @@ public:
         has_where_ = true;
         return std::move(*this);
     }
-    /// Adds a subject in front (the caller knows more context than the thrower).
-    void prepend(Subject s) { subjects_.insert(subjects_.begin(), std::move(s)); }
-    void append(Subject s) { subjects_.push_back(std::move(s)); }
 
 private:
     GeometryErrorKind kind_;
