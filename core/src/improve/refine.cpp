@@ -22,6 +22,7 @@
 #include "geometry/curve.hpp"
 #include "meshd/core/errors.hpp"
 #include "triangulation/triangle_soup.hpp"
+#include "kernel/constructions.hpp"
 #include "kernel/predicates.hpp"
 
 namespace meshd::core {
@@ -31,10 +32,6 @@ namespace {
 using detail::next3;
 using detail::prev3;
 
-std::uint64_t ukey(std::uint32_t a, std::uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<std::uint64_t>(a) << 32) | b;
-}
 
 class Refiner {
 public:
@@ -48,7 +45,7 @@ public:
         chains_.resize(m.edges.size());
         for (size_t e = 0; e < m.edges.size(); ++e) {
             chains_[e] = {m.edges[e].a, m.edges[e].b};
-            edge_of_[ukey(m.edges[e].a, m.edges[e].b)] = e;
+            edge_of_[detail::edge_key(m.edges[e].a, m.edges[e].b)] = e;
         }
     }
 
@@ -104,50 +101,25 @@ private:
         return shortest > 0.1 * rho_.interior(g);
     }
 
-    // Every triangle around vertex v (both ways round, for a fan open at the boundary).
+    // Every bad triangle around vertex v into the queue.
     void around(std::uint32_t v, std::vector<TriangleId>& queue) const {
-        const TriangleId start = soup_->vertex_triangle(v);
-        if (start == kNoTriangle) return;
-        for (const bool ccw : {true, false}) {
-            TriangleId t = start;
-            for (int guard = 0; guard < 256; ++guard) {
-                if (bad(t)) queue.push_back(t);
-                const std::uint32_t k = detail::TriangleSoup::index_of(m_.triangles[t], v);
-                const TriangleId nt = m_.triangles[t].n[ccw ? next3(k) : prev3(k)];
-                if (nt == kNoTriangle || nt == start) break;
-                t = nt;
-            }
-        }
+        soup_->around(v, [&](TriangleId t) {
+            if (bad(t)) queue.push_back(t);
+            return false;
+        });
     }
 
     // Fixes triangle t by one insertion; false when nothing could be inserted.
     bool fix(TriangleId t) {
         const Triangle& T = m_.triangles[t];
         const Vec2 a = pts_[T.v[0]], b = pts_[T.v[1]], c = pts_[T.v[2]];
-        const Vec2 ab = b - a, ac = c - a;
-        const double d = 2.0 * cross(ab, ac);
-        if (!(std::fabs(d) > 0.0)) return false;
-        const Vec2 centre = a + Vec2{(ac.y * norm2(ab) - ab.y * norm2(ac)) / d, (ab.x * norm2(ac) - ac.x * norm2(ab)) / d};
+        const Vec2 centre = circumcentre(a, b, c);
+        if (!is_finite(centre)) return false;
         // Walk from the centroid to the centre; stop at the first constrained edge crossed.
-        Vec2 from = (a + b + c) / 3.0;
-        TriangleId cur = t;
-        for (int steps = 0; steps < 10000; ++steps) {
-            const Triangle& C = m_.triangles[cur];
-            int exit = -1;
-            for (std::uint32_t i = 0; i < 3; ++i) {
-                const Vec2 e0 = pts_[C.v[next3(i)]], e1 = pts_[C.v[prev3(i)]];
-                if (orient2d(e0, e1, centre) != Orientation::Right) continue;
-                if (orient2d(from, centre, e0) != Orientation::Left && orient2d(from, centre, e1) != Orientation::Right) {
-                    exit = static_cast<int>(i);
-                    break;
-                }
-            }
-            if (exit < 0) break;  // the centre is in cur
-            const auto i = static_cast<std::uint32_t>(exit);
-            if (edge_bit(C.constrained, i) || C.n[i] == kNoTriangle) return split_segment(cur, i);
-            cur = C.n[i];
-            if (steps == 9999) return false;
-        }
+        const detail::WalkEnd end = soup_->walk(t, (a + b + c) / 3.0, centre, 10000);
+        if (end.triangle == kNoTriangle) return false;
+        if (end.edge >= 0) return split_segment(end.triangle, static_cast<std::uint32_t>(end.edge));
+        const TriangleId cur = end.triangle;
         // A constrained edge of the triangle found (or of its neighbours) whose diametral
         // circle holds the centre is split instead.
         for (TriangleId x : {cur, m_.triangles[cur].n[0], m_.triangles[cur].n[1], m_.triangles[cur].n[2]}) {
@@ -178,7 +150,7 @@ private:
         const std::uint32_t a = T.v[next3(i)], b = T.v[prev3(i)];
         const Vec2 mid = 0.5 * (pts_[a] + pts_[b]);
         if (!(distance(pts_[a], pts_[b]) > 0.1 * rho_.interior(mid))) return false;
-        auto it = edge_of_.find(ukey(a, b));
+        auto it = edge_of_.find(detail::edge_key(a, b));
         if (it == edge_of_.end()) return false;  // constrained but not a mesh edge: leave it
         const size_t e = it->second;
         const CurveId c = m_.edges[e].curve;
@@ -206,8 +178,8 @@ private:
             }
         }
         edge_of_.erase(it);
-        edge_of_[ukey(a, p)] = e;
-        edge_of_[ukey(p, b)] = e;
+        edge_of_[detail::edge_key(a, p)] = e;
+        edge_of_[detail::edge_key(p, b)] = e;
         return true;
     }
 

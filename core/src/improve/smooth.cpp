@@ -169,18 +169,17 @@ private:
         quality_[t] = shape(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]);
     }
 
-    // The triangles around interior point v into star_; false when the fan is not closed.
+    // The triangles around interior point v into star_; false when the fan is not closed
+    // (then v is not an interior point) or unusually large.
     bool walk_star(std::uint32_t v) {
         star_.clear();
-        const TriangleId start = soup_.vertex_triangle(v);
-        TriangleId t = start;
-        do {
-            if (t == kNoTriangle || star_.size() > 64) return false;
+        soup_.around(v, [&](TriangleId t) {
             star_.push_back(t);
-            const Triangle& T = m_.triangles[t];
-            t = T.n[next3(TriangleSoup::index_of(T, v))];
-        } while (t != start);
-        return true;
+            return star_.size() > 64;
+        });
+        if (star_.empty() || star_.size() > 64) return false;
+        const Triangle& last = m_.triangles[star_.back()];
+        return last.n[next3(TriangleSoup::index_of(last, v))] == star_.front();
     }
 
     // One guarded Laplacian move of v (full step, else half). True when v moved.

@@ -21,70 +21,6 @@ using detail::SizeClasses;
 using detail::next3;
 using detail::prev3;
 
-// Straight walks in the constrained triangulation of the boundary: is the segment from a
-// known place to C free of constraints, and which triangle holds C?
-class DomainWalker {
-public:
-    DomainWalker(std::vector<Vec2> pts, std::vector<Triangle> tris)
-        : pts_(std::move(pts)), tris_(std::move(tris)), soup_(pts_, tris_, true) {}
-
-    const Vec2& point(std::uint32_t v) const { return pts_[v]; }
-
-    // Triangle around boundary vertex v whose closed wedge holds the direction to c.
-    TriangleId wedge(std::uint32_t v, Vec2 c) const {
-        const TriangleId start = soup_.vertex_triangle(v);
-        if (start == kNoTriangle) return kNoTriangle;
-        // Go clockwise to the first triangle of an open fan (or all the way round).
-        TriangleId t = start;
-        for (;;) {
-            const std::uint32_t k = detail::TriangleSoup::index_of(tris_[t], v);
-            const TriangleId nt = tris_[t].n[prev3(k)];
-            if (nt == kNoTriangle || nt == start) break;
-            t = nt;
-        }
-        const TriangleId first = t;
-        const Vec2 pv = pts_[v];
-        do {
-            const Triangle& T = tris_[t];
-            const std::uint32_t k = detail::TriangleSoup::index_of(T, v);
-            const Vec2 a = pts_[T.v[next3(k)]], b = pts_[T.v[prev3(k)]];
-            if (orient2d(pv, a, c) != Orientation::Right && orient2d(pv, b, c) != Orientation::Left) return t;
-            t = T.n[next3(k)];
-        } while (t != kNoTriangle && t != first);
-        return kNoTriangle;
-    }
-
-    // Walks the segment from `from` (inside triangle t, or a vertex of it) to c. Returns the
-    // triangle holding c, or kNoTriangle when the segment crosses a constrained edge (loop or
-    // embedded) or leaves the domain.
-    TriangleId walk(TriangleId t, Vec2 from, Vec2 c) const {
-        for (int steps = 0; steps < 100000; ++steps) {
-            const Triangle& T = tris_[t];
-            int exit = -1;
-            for (std::uint32_t i = 0; i < 3; ++i) {
-                const Vec2 a = pts_[T.v[next3(i)]], b = pts_[T.v[prev3(i)]];
-                if (orient2d(a, b, c) != Orientation::Right) continue;  // c not beyond edge i
-                // Does the segment from -> c leave through edge i (closed)?
-                const Orientation oa = orient2d(from, c, a), ob = orient2d(from, c, b);
-                if (oa != Orientation::Left && ob != Orientation::Right) {
-                    exit = static_cast<int>(i);
-                    break;
-                }
-            }
-            if (exit < 0) return t;  // c is in t (closed)
-            const auto i = static_cast<std::uint32_t>(exit);
-            if (edge_bit(T.constrained, i) || T.n[i] == kNoTriangle) return kNoTriangle;
-            t = T.n[i];
-        }
-        return kNoTriangle;  // a walk this long means a degenerate path: refuse the point
-    }
-
-private:
-    std::vector<Vec2> pts_;
-    std::vector<Triangle> tris_;
-    detail::TriangleSoup soup_;
-};
-
 struct FrontSegment {
     std::uint32_t a, b;
     bool alive;
@@ -98,7 +34,8 @@ public:
                    InteriorStats& stats)
         : rho_(rho), opt_(opt), max_points_(max_points), obs_(obs), stats_(stats),
           classes_(domain.box().lo - Vec2{domain.extent(), domain.extent()}, domain.extent()),
-          walker_(walls.points, walls.triangles) {
+          wall_points_(walls.points), wall_triangles_(walls.triangles),
+          walls_(wall_points_, wall_triangles_, true) {
         // Points: the boundary's, with their curve densities.
         const size_t nb = d.size();
         pts_.reserve(nb * 4);
@@ -259,9 +196,17 @@ private:
         return false;
     }
 
+    // The triangle of the boundary triangulation that holds c, reached by a straight walk
+    // from `from` in triangle t without crossing a constraint; kNoTriangle when the way is
+    // blocked, leaves the domain or is degenerate (a walk this long: refuse the point).
+    TriangleId inside(TriangleId t, Vec2 from, Vec2 c) const {
+        const detail::WalkEnd end = walls_.walk(t, from, c, 100000);
+        return end.edge < 0 ? end.triangle : kNoTriangle;
+    }
+
     // Triangle of the boundary triangulation from which to walk out of point v.
     TriangleId start_of(std::uint32_t v, Vec2 target) const {
-        if (v < boundary_count_) return walker_.wedge(v, target);
+        if (v < boundary_count_) return walls_.wedge(v, target);
         return home_[v];
     }
 
@@ -304,9 +249,9 @@ private:
         }
         // Paths from A and B to C must stay in the domain (this also decides C is inside).
         const TriangleId ta = start_of(seg.a, c);
-        const TriangleId home_c = ta == kNoTriangle ? kNoTriangle : walker_.walk(ta, a, c);
+        const TriangleId home_c = ta == kNoTriangle ? kNoTriangle : inside(ta, a, c);
         const TriangleId tb = home_c == kNoTriangle ? kNoTriangle : start_of(seg.b, c);
-        if (home_c == kNoTriangle || tb == kNoTriangle || walker_.walk(tb, b, c) == kNoTriangle) {
+        if (home_c == kNoTriangle || tb == kNoTriangle || inside(tb, b, c) == kNoTriangle) {
             ++stats_.rejected_outside;
             front_[s].alive = false;
             return;
@@ -325,7 +270,10 @@ private:
     Observer* obs_;
     InteriorStats& stats_;
     SizeClasses classes_;
-    DomainWalker walker_;
+    // The constrained triangulation of the boundary, for the walks that decide "inside".
+    std::vector<Vec2> wall_points_;
+    std::vector<Triangle> wall_triangles_;
+    detail::TriangleSoup walls_;
     std::vector<Vec2> pts_;
     std::vector<double> prho_;
     std::vector<TriangleId> home_;

@@ -23,6 +23,7 @@
 #include "kernel/kdtree.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/observer.hpp"
+#include "kernel/constructions.hpp"
 #include "kernel/predicates.hpp"
 #include "triangulation/triangulation.hpp"
 
@@ -65,7 +66,6 @@ private:
     detail::KdLayout tree_;
 };
 
-std::uint64_t dkey(std::uint32_t a, std::uint32_t b) { return (static_cast<std::uint64_t>(a) << 32) | b; }
 
 class DelaunayFront {
 public:
@@ -105,7 +105,7 @@ private:
     void add_front(std::uint32_t a, std::uint32_t b) {
         const auto id = static_cast<std::uint32_t>(edges_.size());
         edges_.push_back({a, b, true});
-        front_[dkey(a, b)] = id;
+        front_[detail::directed_key(a, b)] = id;
         stack_.push_back(id);
         ++front_degree_[a];
         ++front_degree_[b];
@@ -121,7 +121,7 @@ private:
     void remove_front(std::uint32_t id) {
         FrontEdge& e = edges_[id];
         e.alive = false;
-        front_.erase(dkey(e.a, e.b));
+        front_.erase(detail::directed_key(e.a, e.b));
         --front_degree_[e.a];
         --front_degree_[e.b];
     }
@@ -179,11 +179,7 @@ private:
             const bool everything = r >= 2.0 * extent_;
             if (best != UINT32_MAX) {
                 // Is the circle through a, b, best inside the searched disk?
-                const Vec2 pc = pts_[best];
-                const Vec2 ab = pb - pa, ac = pc - pa;
-                const double d = 2.0 * cross(ab, ac);
-                const Vec2 centre = pa + Vec2{(ac.y * norm2(ab) - ab.y * norm2(ac)) / d,
-                                              (ab.x * norm2(ac) - ac.x * norm2(ab)) / d};
+                const Vec2 centre = circumcentre(pa, pb, pts_[best]);
                 const double need = distance(centre, mid) + distance(centre, pa);
                 if (everything || need <= r * (1.0 - 1e-12)) {
                     form(f, a, b, best);
@@ -204,7 +200,7 @@ private:
         touched_[c] = 1;
         // Edge b -> c: closes front edge b -> c, or opens c -> b. Likewise c -> a.
         for (auto [u, w] : {std::pair{b, c}, std::pair{c, a}}) {
-            auto it = front_.find(dkey(u, w));
+            auto it = front_.find(detail::directed_key(u, w));
             if (it != front_.end()) remove_front(it->second);
             else add_front(w, u);
         }
@@ -218,17 +214,17 @@ private:
         for (TriangleId t = 0; t < r.triangles.size(); ++t)
             for (std::uint32_t i = 0; i < 3; ++i) {
                 const Triangle& T = r.triangles[t];
-                by_edge[dkey(T.v[(i + 1) % 3], T.v[(i + 2) % 3])] = {t, i};
+                by_edge[detail::directed_key(T.v[(i + 1) % 3], T.v[(i + 2) % 3])] = {t, i};
             }
         for (TriangleId t = 0; t < r.triangles.size(); ++t)
             for (std::uint32_t i = 0; i < 3; ++i) {
                 Triangle& T = r.triangles[t];
-                auto it = by_edge.find(dkey(T.v[(i + 2) % 3], T.v[(i + 1) % 3]));
+                auto it = by_edge.find(detail::directed_key(T.v[(i + 2) % 3], T.v[(i + 1) % 3]));
                 if (it != by_edge.end()) T.n[i] = it->second.first;
             }
         for (const Constraint& c : cons_) {
             for (auto [u, w] : {std::pair{c.a, c.b}, std::pair{c.b, c.a}}) {
-                auto it = by_edge.find(dkey(u, w));
+                auto it = by_edge.find(detail::directed_key(u, w));
                 if (it == by_edge.end()) continue;
                 Triangle& T = r.triangles[it->second.first];
                 const std::uint8_t bit = static_cast<std::uint8_t>(1u << it->second.second);

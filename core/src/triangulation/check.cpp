@@ -5,18 +5,10 @@
 #include <unordered_set>
 
 #include "meshd/core/mesh.hpp"
+#include "triangulation/triangle_soup.hpp"
 #include "kernel/predicates.hpp"
 
 namespace meshd::core {
-
-namespace {
-
-std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<std::uint64_t>(a) << 32) | b;
-}
-
-}  // namespace
 
 std::vector<std::string> check_mesh(const Mesh& m, bool delaunay) {
     std::vector<std::string> out;
@@ -63,17 +55,17 @@ std::vector<std::string> check_mesh(const Mesh& m, bool delaunay) {
     for (const Triangle& T : m.triangles) {
         for (std::uint32_t i = 0; i < 3; ++i) {
             const std::uint32_t a = T.v[(i + 1) % 3], b = T.v[(i + 2) % 3];
-            all.insert(edge_key(a, b));
-            if (T.n[i] == kNoTriangle) open.insert((static_cast<std::uint64_t>(a) << 32) | b);
+            all.insert(detail::edge_key(a, b));
+            if (T.n[i] == kNoTriangle) open.insert(detail::directed_key(a, b));
         }
     }
     size_t loop_edges = 0;
     for (const MeshEdge& e : m.edges) {
-        if (!all.count(edge_key(e.a, e.b)))
+        if (!all.count(detail::edge_key(e.a, e.b)))
             fail("edge " + std::to_string(e.a) + "-" + std::to_string(e.b) + " of the boundary is not a mesh edge");
         if (!e.embedded) {
             ++loop_edges;
-            if (!open.count((static_cast<std::uint64_t>(e.a) << 32) | e.b))
+            if (!open.count(detail::directed_key(e.a, e.b)))
                 fail("loop edge " + std::to_string(e.a) + "-" + std::to_string(e.b) +
                      " does not have the mesh on its left only");
         }

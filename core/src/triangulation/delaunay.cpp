@@ -202,32 +202,32 @@ private:
             return;
         }
         const Vec2 pa = pts_[a], pb = pts_[b];
-        // The triangle around a whose wedge holds the direction to b.
-        TriangleId t = soup_->vertex_triangle(a);
-        const TriangleId start = t;
-        std::uint32_t l = 0, r = 0;
-        bool found = false;
-        do {
-            const Triangle& T = tris_[t];
+        // The triangle around a whose wedge holds the direction to b; a neighbour of a on
+        // the segment splits it there.
+        std::uint32_t l = 0, r = 0, on_segment = kNoVertex;
+        const TriangleId t = soup_->around(a, [&](TriangleId x) {
+            const Triangle& T = tris_[x];
             const std::uint32_t k = detail::TriangleSoup::index_of(T, a);
             const std::uint32_t v1 = T.v[next3(k)], v2 = T.v[prev3(k)];
             const Orientation o1 = orient2d(pa, pb, pts_[v1]);
             const Orientation o2 = orient2d(pa, pb, pts_[v2]);
             if (o1 == Orientation::Collinear && dot(pts_[v1] - pa, pb - pa) > 0.0) {
-                // v1 lies on the segment: split there.
-                recover_segment(a, v1, loop, depth + 1);
-                recover_segment(v1, b, loop, depth + 1);
-                return;
+                on_segment = v1;
+                return true;
             }
             if (o1 == Orientation::Right && o2 == Orientation::Left) {
                 r = v1;
                 l = v2;
-                found = true;
-                break;
+                return true;
             }
-            t = T.n[next3(k)];  // counter-clockwise around a: across (v2, a)
-        } while (t != start && t != kNoTriangle);
-        MESHD_INTERNAL_CHECK(found, "constraint start not found around its vertex");
+            return false;
+        });
+        MESHD_INTERNAL_CHECK(t != kNoTriangle, "constraint start not found around its vertex");
+        if (on_segment != kNoVertex) {
+            recover_segment(a, on_segment, loop, depth + 1);
+            recover_segment(on_segment, b, loop, depth + 1);
+            return;
+        }
         // Walk to b collecting the crossing edges (l left of a->b, r right of it).
         std::deque<std::pair<std::uint32_t, std::uint32_t>> crossing;
         crossing.emplace_back(l, r);

@@ -125,27 +125,39 @@ std::uint64_t TriangleSoup::legalize_insertion(std::vector<std::pair<TriangleId,
 }
 
 std::pair<TriangleId, std::uint32_t> TriangleSoup::find_edge(std::uint32_t a, std::uint32_t b) const {
-    const TriangleId start = vtri_[a];
-    if (start == kNoTriangle) return {kNoTriangle, 0};
-    // Clockwise around a first (across the edge (a, v[k+1])), then counter-clockwise, so
-    // that a vertex on the outer boundary (open fan) is fully covered.
-    TriangleId t = start;
-    do {
-        const std::uint32_t k = index_of(t_[t], a);
-        if (t_[t].v[next3(k)] == b) return {t, k};
-        t = t_[t].n[prev3(k)];
-    } while (t != kNoTriangle && t != start);
-    if (t == start) return {kNoTriangle, 0};
-    t = start;
-    for (;;) {
-        const std::uint32_t k = index_of(t_[t], a);
-        const TriangleId nt = t_[t].n[next3(k)];
-        if (nt == kNoTriangle) break;
-        t = nt;
-        const std::uint32_t kk = index_of(t_[t], a);
-        if (t_[t].v[next3(kk)] == b) return {t, kk};
+    const TriangleId t = around(a, [&](TriangleId x) { return t_[x].v[next3(index_of(t_[x], a))] == b; });
+    return {t, t == kNoTriangle ? 0u : index_of(t_[t], a)};
+}
+
+TriangleId TriangleSoup::wedge(VertexId v, Vec2 c) const {
+    const Vec2 pv = pts_[v];
+    return around(v, [&](TriangleId t) {
+        const Triangle& T = t_[t];
+        const std::uint32_t k = index_of(T, v);
+        return orient2d(pv, pts_[T.v[next3(k)]], c) != Orientation::Right &&
+               orient2d(pv, pts_[T.v[prev3(k)]], c) != Orientation::Left;
+    });
+}
+
+WalkEnd TriangleSoup::walk(TriangleId t, Vec2 from, Vec2 to, int max_steps) const {
+    for (int steps = 0; steps < max_steps; ++steps) {
+        const Triangle& T = t_[t];
+        int exit = -1;
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            const Vec2 a = pts_[T.v[next3(i)]], b = pts_[T.v[prev3(i)]];
+            if (orient2d(a, b, to) != Orientation::Right) continue;  // `to` not beyond edge i
+            // Does the segment leave through edge i (closed)?
+            if (orient2d(from, to, a) != Orientation::Left && orient2d(from, to, b) != Orientation::Right) {
+                exit = static_cast<int>(i);
+                break;
+            }
+        }
+        if (exit < 0) return {t, -1};  // `to` is in t (closed)
+        const auto i = static_cast<std::uint32_t>(exit);
+        if (edge_bit(T.constrained, i) || T.n[i] == kNoTriangle) return {t, exit};
+        t = T.n[i];
     }
-    return {kNoTriangle, 0};
+    return {kNoTriangle, -1};
 }
 
 void TriangleSoup::rebuild_vertex_index() {

@@ -1,6 +1,7 @@
 #pragma once
-// The triangle soup with adjacency shared by both triangulators, the smoothing stage and
-// mesh checks: rotations, flips, edge lookups, Lawson legalisation.
+// The triangle soup with adjacency (the Triangle of mesh.hpp) that the triangulators, the
+// interior stage's domain walks, smoothing and refinement all work on: walks around a
+// vertex and along a segment, flips, splits, edge lookups, Lawson legalisation.
 
 #include <cstdint>
 #include <vector>
@@ -11,6 +12,18 @@ namespace meshd::core::detail {
 
 inline std::uint32_t next3(std::uint32_t i) { return i == 2 ? 0 : i + 1; }
 inline std::uint32_t prev3(std::uint32_t i) { return i == 0 ? 2 : i - 1; }
+
+/// Keys of edges for hash maps: a -> b, and {a, b} whatever the direction.
+inline std::uint64_t directed_key(VertexId a, VertexId b) { return (static_cast<std::uint64_t>(a) << 32) | b; }
+inline std::uint64_t edge_key(VertexId a, VertexId b) { return a < b ? directed_key(a, b) : directed_key(b, a); }
+
+/// Where a straight walk ended: the triangle holding the target (edge -1), or the triangle
+/// and edge through which the segment leaves across a constrained edge or the mesh's
+/// boundary; triangle kNoTriangle when the walk took too many steps (a degenerate path).
+struct WalkEnd {
+    TriangleId triangle;
+    int edge;
+};
 
 class TriangleSoup {
 public:
@@ -29,6 +42,33 @@ public:
     static std::uint32_t index_of(const Triangle& t, std::uint32_t v) {
         return t.v[0] == v ? 0u : (t.v[1] == v ? 1u : 2u);
     }
+    /// Visits the triangles around vertex v: counter-clockwise from vertex_triangle(v), and
+    /// when the fan is open (v on the boundary of the soup) then clockwise from there. Stops
+    /// at the first triangle for which visit(t) is true and returns it; else kNoTriangle.
+    /// Needs the vertex index.
+    template <class Visit>
+    TriangleId around(VertexId v, Visit&& visit) const {
+        const TriangleId start = vtri_[v];
+        if (start == kNoTriangle) return kNoTriangle;
+        TriangleId t = start;
+        do {
+            if (visit(t)) return t;
+            t = t_[t].n[next3(index_of(t_[t], v))];
+        } while (t != kNoTriangle && t != start);
+        if (t == start) return kNoTriangle;
+        for (t = t_[start].n[prev3(index_of(t_[start], v))]; t != kNoTriangle; t = t_[t].n[prev3(index_of(t_[t], v))])
+            if (visit(t)) return t;
+        return kNoTriangle;
+    }
+
+    /// The triangle around v whose closed wedge at v holds the direction to c (the start of
+    /// a walk from v towards c), or kNoTriangle.
+    TriangleId wedge(VertexId v, Vec2 c) const;
+
+    /// Walks the segment from `from` (inside triangle t or on its boundary) towards `to`,
+    /// crossing unconstrained edges only, for at most max_steps triangles.
+    WalkEnd walk(TriangleId t, Vec2 from, Vec2 to, int max_steps) const;
+
     /// Index in u of the edge shared with t.
     std::uint32_t back_index(TriangleId u, TriangleId t) const;
 
