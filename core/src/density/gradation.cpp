@@ -29,31 +29,21 @@ GradationField::GradationField(std::vector<Vec2> sources, std::vector<double> si
 
 double GradationField::operator()(Vec2 x) const {
     double best = HUGE_VAL;
-    std::uint32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& n = nodes_[stack[--top]];
+    detail::depth_first(nodes_, [&](const Node& n) {
         const double dx = std::fmax(0.0, std::fmax(n.box.lo.x - x.x, x.x - n.box.hi.x));
         const double dy = std::fmax(0.0, std::fmax(n.box.lo.y - x.y, x.y - n.box.hi.y));
-        if (n.hmin + slope_ * std::sqrt(dx * dx + dy * dy) >= best) continue;
+        if (n.hmin + slope_ * std::sqrt(dx * dx + dy * dy) >= best) return detail::Descend::No;
         if (n.left == 0) {
             for (std::uint32_t i = n.begin; i < n.end; ++i) best = std::fmin(best, h_[i] + slope_ * distance(x, pts_[i]));
-            continue;
+            return detail::Descend::No;
         }
-        // Nearer child last, so it is taken first.
+        // The nearer child first: its cones lower `best` sooner.
         const Node& l = nodes_[n.left];
         const Node& r = nodes_[n.right];
         const double dl = distance(x, 0.5 * (l.box.lo + l.box.hi));
         const double dr = distance(x, 0.5 * (r.box.lo + r.box.hi));
-        if (dl < dr) {
-            stack[top++] = n.right;
-            stack[top++] = n.left;
-        } else {
-            stack[top++] = n.left;
-            stack[top++] = n.right;
-        }
-    }
+        return dl < dr ? detail::Descend::LeftFirst : detail::Descend::RightFirst;
+    });
     return best;
 }
 

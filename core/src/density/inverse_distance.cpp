@@ -72,31 +72,30 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
 
 double InverseDistanceField::operator()(Vec2 p) const {
     double num = 0.0, den = 0.0;
-    std::uint32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& n = nodes_[stack[--top]];
+    const double* at_source = nullptr;  // p is a source: rho there
+    detail::depth_first(nodes_, [&](const Node& n) {
         const double d = distance(p, n.c);
         const double dr = distance(p, n.c_rho);
         if (n.r <= theta_ * d && n.r_rho <= theta_ * dr) {
             den += n.count / d;
             num += n.rho_sum / dr;
-            continue;
+            return detail::Descend::No;
         }
         if (n.left == 0) {
             for (std::uint32_t i = n.begin; i < n.end; ++i) {
                 const double di = distance(p, a_[i]);
-                if (di == 0.0) return rho_[i];
+                if (di == 0.0) {
+                    at_source = &rho_[i];
+                    return detail::Descend::Stop;
+                }
                 den += 1.0 / di;
                 num += rho_[i] / di;
             }
-            continue;
+            return detail::Descend::No;
         }
-        stack[top++] = n.left;
-        stack[top++] = n.right;
-    }
-    return num / den;
+        return detail::Descend::RightFirst;
+    });
+    return at_source ? *at_source : num / den;
 }
 
 double InverseDistanceField::exact(Vec2 p) const {

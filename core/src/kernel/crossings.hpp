@@ -1,9 +1,8 @@
 #pragma once
 // Finding crossing segments among many, without the quadratic all-pairs scan.
 //
-// Segments are sorted into size classes (powers of two of their longest box side); each
-// class has a hashed grid whose cell equals the class size, so a segment touches at most
-// 2 x 2 cells of its own grid. A pair is tested when the smaller segment is looked up in
+// Segments are sorted into the size classes of size_grid.hpp (powers of two of their longest
+// box side); in the grid of its own class a segment touches at most 2 x 2 cells. A pair is tested when the smaller segment is looked up in
 // the grids of classes no smaller than its own: O(classes) cells per segment, so the scan
 // is linear in the number of segments for a bounded ratio of lengths per cell.
 // Segments that share an end (by point index) are neighbours and are not tested.

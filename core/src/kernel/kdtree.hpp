@@ -1,8 +1,9 @@
 #pragma once
-// A static 2-d tree of median splits, shared by the eq. 6.1 treecode (idw.cpp), the
-// gradation field (gradation.cpp) and the advancing-front triangulator's candidate search
-// (daf.cpp). Only the layout lives here: the order of the points and the nodes' ranges and
-// boxes; each user keeps its own per-node data next to it.
+// A static 2-d tree of median splits, shared by the eq. 6.1 treecode
+// (density/inverse_distance.cpp), the gradation field (density/gradation.cpp) and the
+// advancing-front triangulator's candidate search (triangulation/advancing_front.cpp). The
+// layout (the order of the points, the nodes' ranges and boxes) and the depth-first
+// traversal live here; each user keeps its own per-node data and decides where to descend.
 
 #include <algorithm>
 #include <cstdint>
@@ -58,5 +59,32 @@ private:
 
     const std::vector<Vec2>& pts_;
 };
+
+/// What a depth-first traversal does after visiting a node: stop altogether, go no deeper
+/// there (pruned, or a leaf already handled), or open its children, the named one first.
+enum class Descend { Stop, No, LeftFirst, RightFirst };
+
+/// Depth-first traversal from the root (node 0) of any node array with KdNode's `left` and
+/// `right` (left == 0 for a leaf); visit(node) returns a Descend.
+template <class Node, class Visit>
+void depth_first(const std::vector<Node>& nodes, Visit&& visit) {
+    if (nodes.empty()) return;
+    std::uint32_t stack[128];  // two entries a level at most; the trees are far shallower
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& n = nodes[stack[--top]];
+        const Descend d = visit(n);
+        if (d == Descend::Stop) return;
+        if (d == Descend::No || n.left == 0) continue;
+        if (d == Descend::LeftFirst) {
+            stack[top++] = n.right;
+            stack[top++] = n.left;
+        } else {
+            stack[top++] = n.left;
+            stack[top++] = n.right;
+        }
+    }
+}
 
 }  // namespace meshd::core::detail

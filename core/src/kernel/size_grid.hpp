@@ -1,5 +1,6 @@
 #pragma once
-// Hashed grids by size class, for the local queries of the advancing front.
+// Hashed grids by size class: the local queries of the interior's advancing front and of the
+// advancing-front triangulator, and the crossing search of kernel/crossings.cpp.
 //
 // An object of size s belongs to class k = floor(log2(L / s)) (L: the domain extent), so
 // c_k = L 2^-k is in [s, 2s). The grid of class k has cells of 2 c_k. A point is entered

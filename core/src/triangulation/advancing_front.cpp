@@ -41,24 +41,18 @@ public:
 
     template <class F>
     void query(Vec2 c, double r, F&& visit) const {
-        if (tree_.nodes.empty()) return;
         const double r2 = r * r;
-        std::uint32_t stack[128];
-        int top = 0;
-        stack[top++] = 0;
-        while (top > 0) {
-            const detail::KdNode& n = tree_.nodes[stack[--top]];
+        detail::depth_first(tree_.nodes, [&](const detail::KdNode& n) {
             const double dx = std::fmax(0.0, std::fmax(n.box.lo.x - c.x, c.x - n.box.hi.x));
             const double dy = std::fmax(0.0, std::fmax(n.box.lo.y - c.y, c.y - n.box.hi.y));
-            if (dx * dx + dy * dy > r2) continue;
+            if (dx * dx + dy * dy > r2) return detail::Descend::No;
             if (n.left == 0) {
                 for (std::uint32_t i = n.begin; i < n.end; ++i)
                     if (norm2(pts_[tree_.order[i]] - c) <= r2) visit(tree_.order[i]);
-                continue;
+                return detail::Descend::No;
             }
-            stack[top++] = n.left;
-            stack[top++] = n.right;
-        }
+            return detail::Descend::RightFirst;
+        });
     }
 
 private:
