@@ -11,16 +11,23 @@ packages=(
   python3 python3-numpy python3-meshio python3-vtk9 gmsh python3-gmsh
 )
 
+# Node.js runs the OpenAPI check and the manifest validation (the machine's own, else Debian's).
+command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
+if [ ${#missing[@]} -gt 0 ]; then
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  echo "setup: installing ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-sudo=""
-if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-echo "setup: installing ${missing[*]}"
-$sudo apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# The npm packages of the OpenAPI check (pinned in its package-lock.json).
+cd "$(dirname "$0")/.."
+if [ ! -d tests/openapi/node_modules ]; then
+  (cd tests/openapi && npm ci --no-audit --no-fund --silent)
+fi

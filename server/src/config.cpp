@@ -116,14 +116,16 @@ Config parse_config(const std::vector<std::string>& args, bool& help) {
 std::string help_text() {
     std::string s =
         "usage: meshd [options]\n"
-        "Graded triangular meshes over HTTP (see API.md). Every option can also be set by the\n"
+        "Graded triangular meshes over HTTP (docs/api.md). Every option can also be set by the\n"
         "environment variable shown; a flag wins over its variable.\n\n";
     for (const Option& o : options()) {
-        std::string f = std::string("  ") + o.flag + " VALUE";
-        f.resize(24, ' ');
+        std::string f = std::string("  ") + o.flag + " VALUE ";
+        if (f.size() < 24) f.resize(24, ' ');
         s += f + o.help + " [" + o.env + "]\n";
     }
-    s += "  --log-json            log as JSON lines [MESHD_LOG_JSON=1]\n  --help                this text\n";
+    s += "  --log-json            log as JSON lines [MESHD_LOG_JSON=1]\n"
+         "  --openapi             print the OpenAPI 3.0.3 document (as GET /v1/openapi.json) and exit\n"
+         "  --help                this text\n";
     return s;
 }
 

@@ -11,6 +11,7 @@
 
 #include <atomic>
 #include <cstdio>
+#include <cstring>
 #include <thread>
 
 #include "meshd/server/config.hpp"
@@ -38,6 +39,11 @@ public:
 int main(int argc, char** argv) {
     using namespace meshd::server;
     Config config;
+    if (argc == 2 && std::strcmp(argv[1], "--openapi") == 0) {
+        // The document of the routes a default server answers, for client generators.
+        std::puts(Service(Config{}).openapi().c_str());
+        return 0;
+    }
     try {
         bool help = false;
         config = parse_config(std::vector<std::string>(argv + 1, argv + argc), help);

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "meshd/api/schema.hpp"
 #include "meshd/server/service.hpp"
 
 namespace meshd::server {
@@ -32,116 +33,22 @@ json id_param() {
     return {{"name", "id"}, {"in", "path"}, {"required", true}, {"schema", {{"type", "string"}, {"pattern", "^[0-9a-f]+$"}}}};
 }
 
-json scalar() {
-    return {{"oneOf", {{{"type", "number"}, {"exclusiveMinimum", 0}}, {{"type", "string"}, {"description", "expression in x and y"}}}}};
-}
-
-json point() { return {{"type", "array"}, {"items", {{"type", "number"}}}, {"minItems", 2}, {"maxItems", 2}}; }
-
-json schemas() {
-    json curve = {
-        {"type", "object"},
-        {"required", {"type"}},
-        {"properties",
-         {{"type", {{"type", "string"}, {"enum", {"line", "arc", "bspline", "spline", "naca", "airfoil"}}}},
-          {"tag", {{"type", "string"}}},
-          {"from", {{"type", "string"}}},
-          {"to", {{"type", "string"}}},
-          {"center", point()},
-          {"direction", {{"type", "string"}, {"enum", {"ccw", "cw"}}}},
-          {"control_points", {{"type", "array"}, {"items", point()}}},
-          {"degree", {{"type", "integer"}, {"minimum", 1}, {"maximum", 15}}},
-          {"knots", {{"type", "array"}, {"items", {{"type", "number"}}}}},
-          {"through", {{"type", "array"}, {"items", point()}}},
-          {"code", {{"type", "string"}, {"pattern", "^[0-9]{4,5}$"}}},
-          {"chord", {{"type", "number"}, {"exclusiveMinimum", 0}}},
-          {"leading_edge", point()},
-          {"angle_deg", {{"type", "number"}}},
-          {"trailing_edge", {{"type", "string"}, {"enum", {"closed", "open"}}}},
-          {"surface", {{"type", "string"}, {"enum", {"both", "upper", "lower"}}}},
-          {"coordinates", {{"type", "string"}, {"description", "Selig or Lednicer .dat text"}}}}},
-        {"additionalProperties", false}};
-    json request = {
-        {"type", "object"},
-        {"required", {"geometry", "density"}},
-        {"additionalProperties", false},
-        {"properties",
-         {{"geometry",
-           {{"type", "object"},
-            {"required", {"curves", "loops"}},
-            {"additionalProperties", false},
+// The job of the asynchronous endpoints; the request, response and problem schemas are
+// api's (api/schema.hpp).
+json job_schema() {
+    return {{"type", "object"},
+            {"required", {"id", "status"}},
             {"properties",
-             {{"points", {{"type", "object"}, {"additionalProperties", point()}}},
-              {"curves", {{"type", "object"}, {"additionalProperties", curve}}},
-              {"loops", {{"type", "array"}, {"items", {{"type", "array"}, {"items", {{"type", "string"}}}}}}},
-              {"embedded", {{"type", "array"}, {"items", {{"type", "string"}}}}}}}}},
-          {"density",
-           {{"type", "object"},
-            {"additionalProperties", false},
-            {"properties",
-             {{"size", scalar()},
-              {"curves", {{"type", "object"}, {"additionalProperties", scalar()}}},
-              {"interior", {{"type", "string"}, {"description", "\"interpolate\" (eq. 6.1) or an expression"}}},
-              {"gradation", {{"type", "number"}, {"exclusiveMinimum", 1}}},
-              {"min", {{"type", "number"}, {"exclusiveMinimum", 0}}},
-              {"max", {{"type", "number"}, {"exclusiveMinimum", 0}}}}}}},
-          {"options",
-           {{"type", "object"},
-            {"additionalProperties", false},
-            {"properties",
-             {{"smoothing_iterations", {{"type", "integer"}, {"minimum", 0}, {"default", 5}}},
-              {"triangulator", {{"type", "string"}, {"enum", {"delaunay", "advancing-front"}}, {"default", "delaunay"}}},
-              {"max_points", {{"type", "integer"}, {"minimum", 1}}},
-              {"timeout_s", {{"type", "number"}, {"exclusiveMinimum", 0}}},
-              {"min_angle_deg", {{"type", "number"}, {"minimum", 0}, {"maximum", 34}}}}}}}}}};
-    json stats = {{"type", "object"}, {"properties", {{"min", {{"type", "number"}}}, {"max", {{"type", "number"}}}, {"mean", {{"type", "number"}}}}}};
-    json metrics = {
-        {"type", "object"},
-        {"properties",
-         {{"points", {{"type", "integer"}}},
-          {"boundary_points", {{"type", "integer"}}},
-          {"interior_points", {{"type", "integer"}}},
-          {"triangles", {{"type", "integer"}}},
-          {"angle_deg", stats},
-          {"quality",
-           {{"type", "object"},
-            {"properties",
-             {{"min", {{"type", "number"}}},
-              {"mean", {{"type", "number"}}},
-              {"histogram", {{"type", "array"}, {"items", {{"type", "integer"}}}, {"minItems", 10}, {"maxItems", 10}}}}}}},
-          {"size_ratio", {{"type", "object"}, {"properties", {{"mean", {{"type", "number"}}}, {"within_sqrt2", {{"type", "number"}}}}}}},
-          {"timings_ms", {{"type", "object"}, {"additionalProperties", {{"type", "number"}}}}}}}};
-    json mesh_response = {
-        {"type", "object"},
-        {"properties",
-         {{"mesh",
-           {{"type", "object"},
-            {"properties",
-             {{"points", {{"type", "array"}, {"items", point()}}},
-              {"triangles", {{"type", "array"}, {"items", {{"type", "array"}, {"items", {{"type", "integer"}}}}}}},
-              {"boundaries", {{"type", "object"}, {"additionalProperties", {{"type", "array"}}}}}}}}},
-          {"metrics", ref("Metrics")}}}};
-    json job = {{"type", "object"},
-                {"required", {"id", "status"}},
-                {"properties",
-                 {{"id", {{"type", "string"}}},
-                  {"status", {{"type", "string"}, {"enum", {"queued", "running", "succeeded", "failed", "cancelled"}}}},
-                  {"progress", {{"type", "number"}, {"minimum", 0}, {"maximum", 1}}},
-                  {"stage", {{"type", "string"}}},
-                  {"submitted_at", {{"type", "string"}, {"format", "date-time"}}},
-                  {"started_at", {{"type", "string"}, {"format", "date-time"}}},
-                  {"finished_at", {{"type", "string"}, {"format", "date-time"}}},
-                  {"metrics", ref("Metrics")},
-                  {"error", ref("Problem")}}}};
-    json problem = {{"type", "object"},
-                    {"required", {"type", "title", "status", "detail"}},
-                    {"properties",
-                     {{"type", {{"type", "string"}}},
-                      {"title", {{"type", "string"}}},
-                      {"status", {{"type", "integer"}}},
-                      {"detail", {{"type", "string"}}},
-                      {"pointer", {{"type", "string"}, {"description", "JSON pointer into the request"}}}}}};
-    return {{"MeshRequest", request}, {"MeshResponse", mesh_response}, {"Metrics", metrics}, {"Job", job}, {"Problem", problem}};
+             {{"id", {{"type", "string"}}},
+              {"status", {{"type", "string"}, {"enum", {"queued", "running", "succeeded", "failed", "cancelled"}}}},
+              {"progress", {{"type", "number"}, {"minimum", 0}, {"maximum", 1}}},
+              {"stage", {{"type", "string"}}},
+              {"submitted_at", {{"type", "string"}, {"format", "date-time"}}},
+              {"started_at", {{"type", "string"}, {"format", "date-time"}}},
+              {"finished_at", {{"type", "string"}, {"format", "date-time"}}},
+              {"expired", {{"type", "boolean"}}},
+              {"metrics", ref("Metrics")},
+              {"error", ref("Problem")}}}};
 }
 
 // The operations, keyed by method and OpenAPI path.
@@ -215,7 +122,9 @@ std::string Service::openapi() const {
     json paths = json::object();
     for (const Route& r : routes_) paths[r.path][r.method] = operation(r.method, r.path);
     doc["paths"] = paths;
-    doc["components"] = {{"schemas", schemas()}};
+    json schemas = json::parse(api::openapi_schemas());
+    schemas["Job"] = job_schema();
+    doc["components"] = {{"schemas", schemas}};
     return doc.dump();
 }
 

@@ -344,8 +344,8 @@ void Service::install() {
     });
 
     add("get", "/v1/openapi.json");
-    s.Get("/v1/openapi.json", [this](const httplib::Request&, httplib::Response& res) {
-        res.set_content(openapi(), "application/json");
+    s.Get("/v1/openapi.json", [doc = openapi()](const httplib::Request&, httplib::Response& res) {
+        res.set_content(doc, "application/json");
     });
 }
 

@@ -76,6 +76,11 @@ case("NaN literal", 400, "", raw=json.dumps(BASE).replace("[1, 0]", "[NaN, 0]"))
 case("trailing garbage", 400, "", raw=json.dumps(BASE) + " }")
 case("deep nesting", 400, "", raw="[" * 5000 + "]" * 5000)
 case("empty body", 400, "", raw="")
+case("a member a line does not have", 400, "/geometry/curves/bottom/center",
+     setp(["geometry", "curves", "bottom", "center"], [0, 0]))
+case("a bspline degree that is not an integer", 400, "/geometry/curves/blob/degree",
+     lambda b: g(b)["curves"].update({"blob": {"type": "bspline", "control_points": [[0.2, 0.2], [0.3, 0.3], [0.4, 0.2]],
+                                               "degree": 1.5}}))
 case("a point named twice", 400, "/geometry/points/A",
      raw=json.dumps(BASE).replace('"A": [0, 0],', '"A": [0, 0], "A": [0.5, 0],'))
 case("a curve member named twice", 400, "/geometry/curves/right/to",
