@@ -1,0 +1,58 @@
+#pragma once
+// What the writers share: shortest round-trip numbers, big-endian binary, edges by tag.
+
+#include <bit>
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+#include <ostream>
+#include <vector>
+
+#include "meshd/api/writers.hpp"
+
+namespace meshd::api::writers {
+
+using core::Mesh;
+using core::MeshResult;
+
+using core::Mesh;
+using core::MeshResult;
+
+// Shortest text that reads back to the same double.
+struct Num {
+    char buf[32];
+    size_t len;
+    explicit Num(double v) {
+        auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
+        len = ec == std::errc() ? static_cast<size_t>(p - buf) : 0;
+    }
+};
+inline std::ostream& operator<<(std::ostream& os, const Num& n) { return os.write(n.buf, static_cast<std::streamsize>(n.len)); }
+
+template <class T>
+void put_be(std::ostream& os, T v) {
+    static_assert(sizeof(T) == 4 || sizeof(T) == 8);
+    using U = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>;
+    U u;
+    std::memcpy(&u, &v, sizeof u);
+    if constexpr (std::endian::native == std::endian::little) {
+        if constexpr (sizeof(T) == 4) u = __builtin_bswap32(u);
+        else u = __builtin_bswap64(u);
+    }
+    char b[sizeof u];
+    std::memcpy(b, &u, sizeof u);
+    os.write(b, sizeof b);
+}
+
+inline double tri_quality(const Mesh& m, const core::Triangle& t) {
+    return core::radius_ratio(m.point(t.v[0]), m.point(t.v[1]), m.point(t.v[2]));
+}
+
+// Edges grouped by tag, in tag order.
+inline std::vector<std::vector<const core::MeshEdge*>> edges_by_tag(const Mesh& m) {
+    std::vector<std::vector<const core::MeshEdge*>> g(m.tags.size());
+    for (const auto& e : m.edges) g[e.tag].push_back(&e);
+    return g;
+}
+
+}  // namespace meshd::api::writers

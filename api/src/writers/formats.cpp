@@ -1,0 +1,59 @@
+// The formats by name and content type, the dispatch to their writers, result sizes.
+
+#include <algorithm>
+#include <cmath>
+
+#include "writers/common.hpp"
+
+namespace meshd::api {
+
+using namespace writers;
+
+std::optional<Format> parse_format(std::string_view n) {
+    if (n == "json") return Format::Json;
+    if (n == "vtk") return Format::Vtk;
+    if (n == "su2") return Format::Su2;
+    if (n == "msh") return Format::Msh;
+    if (n == "svg") return Format::Svg;
+    return std::nullopt;
+}
+
+const char* format_name(Format f) {
+    switch (f) {
+        case Format::Json: return "json";
+        case Format::Vtk: return "vtk";
+        case Format::Su2: return "su2";
+        case Format::Msh: return "msh";
+        case Format::Svg: return "svg";
+    }
+    return "json";
+}
+
+const char* content_type(Format f) {
+    switch (f) {
+        case Format::Json: return "application/json";
+        case Format::Vtk: return "application/octet-stream";
+        case Format::Su2: return "text/plain; charset=utf-8";
+        case Format::Msh: return "text/plain; charset=utf-8";
+        case Format::Svg: return "image/svg+xml";
+    }
+    return "application/octet-stream";
+}
+
+size_t result_bytes(const core::MeshResult& r) {
+    const core::Mesh& m = r.mesh;
+    return m.point_count() * (3 * sizeof(double) + sizeof(core::PointKind) + sizeof(core::CurveId) + sizeof(double)) +
+           m.triangles.size() * sizeof(core::Triangle) + m.edges.size() * sizeof(core::MeshEdge) + 4096;
+}
+
+void write_mesh(Format f, const MeshResult& r, std::ostream& os) {
+    switch (f) {
+        case Format::Json: write_json(r, os); break;
+        case Format::Vtk: write_vtk(r, os); break;
+        case Format::Su2: write_su2(r, os); break;
+        case Format::Msh: write_msh(r, os); break;
+        case Format::Svg: write_svg(r, os); break;
+    }
+}
+
+}  // namespace meshd::api

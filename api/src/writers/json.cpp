@@ -1,0 +1,52 @@
+// The JSON response of the API (mesh and metrics).
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "writers/common.hpp"
+
+namespace meshd::api {
+
+using namespace writers;
+
+std::string metrics_json(const MeshResult& r) {
+    const auto& q = r.quality;
+    nlohmann::ordered_json j;
+    j["points"] = q.points;
+    j["boundary_points"] = q.boundary_points;
+    j["interior_points"] = q.interior_points;
+    j["triangles"] = q.triangles;
+    j["angle_deg"] = {{"min", q.angle_min}, {"max", q.angle_max}, {"mean", q.angle_mean}};
+    j["quality"] = {{"min", q.quality_min}, {"mean", q.quality_mean}, {"histogram", q.quality_histogram}};
+    j["size_ratio"] = {{"mean", q.size_ratio_mean}, {"within_sqrt2", q.size_ratio_within_sqrt2}};
+    j["timings_ms"] = {{"boundary", r.timings.boundary_ms},
+                       {"interior", r.timings.interior_ms},
+                       {"triangulation", r.timings.triangulation_ms},
+                       {"smoothing", r.timings.smoothing_ms},
+                       {"total", r.timings.total_ms}};
+    j["predicates_exact"] = {{"orient", r.stats.orient_exact}, {"incircle", r.stats.incircle_exact}};
+    return j.dump();
+}
+
+void write_json(const MeshResult& r, std::ostream& os) {
+    const Mesh& m = r.mesh;
+    os << "{\"mesh\":{\"points\":[";
+    for (size_t v = 0; v < m.point_count(); ++v) os << (v ? ",[" : "[") << Num(m.x[v]) << ',' << Num(m.y[v]) << ']';
+    os << "],\"triangles\":[";
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+        const auto& T = m.triangles[t];
+        os << (t ? ",[" : "[") << T.v[0] << ',' << T.v[1] << ',' << T.v[2] << ']';
+    }
+    os << "],\"boundaries\":{";
+    const auto groups = edges_by_tag(m);
+    for (size_t g = 0; g < groups.size(); ++g) {
+        os << (g ? "," : "") << nlohmann::json(m.tags[g]).dump() << ":[";
+        for (size_t i = 0; i < groups[g].size(); ++i)
+            os << (i ? ",[" : "[") << groups[g][i]->a << ',' << groups[g][i]->b << ']';
+        os << ']';
+    }
+    os << "}},\"metrics\":" << metrics_json(r) << "}\n";
+}
+
+}  // namespace meshd::api

@@ -1,0 +1,35 @@
+// SU2 native mesh: triangles and one marker per tag.
+
+#include <algorithm>
+#include <cmath>
+
+#include "writers/common.hpp"
+
+namespace meshd::api {
+
+using namespace writers;
+
+void write_su2(const MeshResult& r, std::ostream& os) {
+    const Mesh& m = r.mesh;
+    os << "% meshd\nNDIME= 2\nNELEM= " << m.triangles.size() << '\n';
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+        const auto& T = m.triangles[t];
+        os << "5 " << T.v[0] << ' ' << T.v[1] << ' ' << T.v[2] << ' ' << t << '\n';
+    }
+    os << "NPOIN= " << m.point_count() << '\n';
+    for (size_t v = 0; v < m.point_count(); ++v) os << Num(m.x[v]) << ' ' << Num(m.y[v]) << ' ' << v << '\n';
+    const auto groups = edges_by_tag(m);
+    size_t marks = 0;
+    for (const auto& g : groups) marks += g.empty() ? 0u : 1u;
+    os << "NMARK= " << marks << '\n';
+    for (size_t g = 0; g < groups.size(); ++g) {
+        if (groups[g].empty()) continue;
+        std::string tag = m.tags[g];
+        for (char& c : tag)
+            if (c == ' ' || c == '\t' || c == '\n' || c == '\r') c = '_';
+        os << "MARKER_TAG= " << tag << "\nMARKER_ELEMS= " << groups[g].size() << '\n';
+        for (const auto* e : groups[g]) os << "3 " << e->a << ' ' << e->b << '\n';
+    }
+}
+
+}  // namespace meshd::api

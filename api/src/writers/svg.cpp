@@ -1,0 +1,64 @@
+// SVG picture of the mesh, tags as colours (optionally a window of the plane).
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "writers/common.hpp"
+
+namespace meshd::api {
+
+using namespace writers;
+
+void write_svg(const MeshResult& r, std::ostream& os, std::optional<core::Box> view) {
+    const Mesh& m = r.mesh;
+    core::Box b;
+    if (view) {
+        b = *view;
+    } else {
+        for (size_t v = 0; v < m.point_count(); ++v) b.add(m.point(static_cast<std::uint32_t>(v)));
+    }
+    if (b.empty()) b.add(core::Vec2{0, 0});
+    auto visible = [&](std::initializer_list<std::uint32_t> vs) {
+        if (!view) return true;
+        core::Box e;
+        for (auto v : vs) e.add(m.point(v));
+        return !(e.hi.x < b.lo.x || e.lo.x > b.hi.x || e.hi.y < b.lo.y || e.lo.y > b.hi.y);
+    };
+    const double w = std::fmax(b.hi.x - b.lo.x, 1e-300), h = std::fmax(b.hi.y - b.lo.y, 1e-300);
+    const double scale = 1000.0 / std::fmax(w, h);
+    const double W = w * scale, H = h * scale;
+    auto X = [&](double x) { return Num(std::round((x - b.lo.x) * scale * 1000.0) / 1000.0); };
+    auto Y = [&](double y) { return Num(std::round((b.hi.y - y) * scale * 1000.0) / 1000.0); };
+    const double stroke = 0.0005 * std::fmax(W, H);
+    os << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " << Num(W) << ' ' << Num(H) << "\" width=\""
+       << Num(W) << "\" height=\"" << Num(H) << "\">\n<title>meshd: " << m.point_count() << " points, "
+       << m.triangles.size() << " triangles</title>\n<g stroke=\"#333\" stroke-width=\"" << Num(stroke)
+       << "\" stroke-linejoin=\"round\">\n";
+    for (const auto& t : m.triangles) {
+        if (!visible({t.v[0], t.v[1], t.v[2]})) continue;
+        // Quality 0 -> red, 0.5 -> yellow, 1 -> pale green.
+        const double q = tri_quality(m, t);
+        const int red = q < 0.5 ? 230 : static_cast<int>(230 - (q - 0.5) * 2 * 130);
+        const int green = q < 0.5 ? static_cast<int>(60 + q * 2 * 170) : 230;
+        const int blue = q < 0.5 ? 60 : static_cast<int>(60 + (q - 0.5) * 2 * 130);
+        char fill[8];
+        std::snprintf(fill, sizeof fill, "#%02x%02x%02x", red, green, blue);
+        os << "<path fill=\"" << fill << "\" d=\"M" << X(m.x[t.v[0]]) << ' ' << Y(m.y[t.v[0]]) << 'L'
+           << X(m.x[t.v[1]]) << ' ' << Y(m.y[t.v[1]]) << 'L' << X(m.x[t.v[2]]) << ' ' << Y(m.y[t.v[2]]) << "Z\"/>\n";
+    }
+    os << "</g>\n";
+    static constexpr std::array<const char*, 8> kColours = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd",
+                                                            "#ff7f0e", "#17becf", "#e377c2", "#8c564b"};
+    const auto groups = edges_by_tag(m);
+    for (size_t g = 0; g < groups.size(); ++g) {
+        os << "<g stroke=\"" << kColours[g % kColours.size()] << "\" stroke-width=\"" << Num(4 * stroke)
+           << "\" fill=\"none\"><title>" << nlohmann::json(m.tags[g]).dump() << "</title>\n<path d=\"";
+        for (const auto* e : groups[g])
+            if (visible({e->a, e->b})) os << 'M' << X(m.x[e->a]) << ' ' << Y(m.y[e->a]) << 'L' << X(m.x[e->b]) << ' ' << Y(m.y[e->b]);
+        os << "\"/></g>\n";
+    }
+    os << "</svg>\n";
+}
+
+}  // namespace meshd::api
