@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds meshd and meshes the built-in NACA 0012 example (API.md's request) with the CLI:
+# Builds meshd and meshes the built-in NACA 0012 example (docs/api.md's request) with the CLI:
 # the metrics go to the terminal, the mesh to out/naca0012.vtk (open it in ParaView) and a
 # picture of the region around the airfoil to out/naca0012.svg.
 set -euo pipefail
