@@ -76,7 +76,7 @@ void BM_InverseDistance(benchmark::State& state) {
         a.push_back(d.point(s.a));
         len.push_back(distance(d.point(s.a), d.point(s.b)));
     }
-    const InverseDistanceField idw(a, len);
+    const InverseDistanceField field(a, len);
     std::mt19937_64 rng(1);
     std::uniform_real_distribution<double> u(-1.0, 2.0);
     std::vector<Vec2> probes(1024);
@@ -84,7 +84,7 @@ void BM_InverseDistance(benchmark::State& state) {
     size_t i = 0;
     for (auto _ : state) {
         const Vec2 p = probes[i++ & 1023];
-        benchmark::DoNotOptimize(kNaive ? idw.exact(p) : idw(p));
+        benchmark::DoNotOptimize(kNaive ? field.exact(p) : field(p));
     }
     state.SetComplexityN(static_cast<int64_t>(a.size()));
     state.counters["sources"] = static_cast<double>(a.size());

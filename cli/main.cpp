@@ -28,7 +28,7 @@ using namespace meshd;
 void usage() {
     std::fprintf(stderr,
                  "usage: meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|svg] [--view X0,Y0,X1,Y1] [--quiet]\n"
-                 "Meshes the request (see API.md) and writes the mesh; '-' reads standard input.\n"
+                 "Meshes the request (see docs/api.md) and writes the mesh; '-' reads standard input.\n"
                  "--view draws only that window of the plane (svg).\n");
 }
 

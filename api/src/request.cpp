@@ -1,4 +1,4 @@
-// JSON -> core types (API.md, "The mesh request").
+// JSON -> core types (docs/api.md, "The mesh request").
 
 #include "meshd/api/request.hpp"
 

@@ -26,41 +26,55 @@ json points() { return {{"type", "array"}, {"items", ref("Point")}}; }
 
 // A curve of one type: its own members, the ones every curve has, and the required ones.
 json curve(const char* type, json members, std::vector<std::string> required) {
-    json props = {{"type", {{"type", "string"}, {"enum", {type}}}},
-                  {"tag", {{"type", "string"}, {"description", "boundary marker; the curve's name when absent"}}},
-                  {"from", {{"type", "string"}, {"description", "name of the start point"}}},
-                  {"to", {{"type", "string"}, {"description", "name of the end point"}}}};
+    json props = {
+        {"type", {{"type", "string"}, {"enum", {type}}}},
+        {"tag",
+         {{"type", "string"}, {"description", "boundary marker; the curve's name when absent"}}},
+        {"from", {{"type", "string"}, {"description", "name of the start point"}}},
+        {"to", {{"type", "string"}, {"description", "name of the end point"}}}};
     props.update(members);
     required.insert(required.begin(), "type");
-    return {{"type", "object"}, {"required", required}, {"properties", props}, {"additionalProperties", false}};
+    return {{"type", "object"},
+            {"required", required},
+            {"properties", props},
+            {"additionalProperties", false}};
 }
 
 json placement() {
     return {{"chord", number()},
             {"leading_edge", ref("Point")},
-            {"angle_deg", {{"type", "number"}, {"description", "angle of attack: rotation about the leading edge, nose up"}}}};
+            {"angle_deg",
+             {{"type", "number"},
+              {"description", "angle of attack: rotation about the leading edge, nose up"}}}};
 }
 
 json curves() {
     json naca = placement();
-    naca["code"] = {{"oneOf", {{{"type", "string"}}, {{"type", "integer"}}}},
-                    {"description", "a NACA 4- or 5-digit designation such as \"0012\" or \"23012\""}};
-    naca["trailing_edge"] = {{"type", "string"}, {"enum", {"closed", "open"}}, {"default", "closed"}};
-    naca["surface"] = {{"type", "string"}, {"enum", {"both", "upper", "lower"}}, {"default", "both"}};
+    naca["code"] = {
+        {"oneOf", {{{"type", "string"}}, {{"type", "integer"}}}},
+        {"description", "a NACA 4- or 5-digit designation such as \"0012\" or \"23012\""}};
+    naca["trailing_edge"] = {
+        {"type", "string"}, {"enum", {"closed", "open"}}, {"default", "closed"}};
+    naca["surface"] = {
+        {"type", "string"}, {"enum", {"both", "upper", "lower"}}, {"default", "both"}};
     json airfoil = placement();
-    airfoil["coordinates"] = {{"type", "string"}, {"description", "the text of a Selig or Lednicer .dat file"}};
-    airfoil["trailing_edge"] = {{"type", "string"}, {"enum", {"closed", "open"}}, {"default", "open"}};
+    airfoil["coordinates"] = {{"type", "string"},
+                              {"description", "the text of a Selig or Lednicer .dat file"}};
+    airfoil["trailing_edge"] = {
+        {"type", "string"}, {"enum", {"closed", "open"}}, {"default", "open"}};
     return {
         {"LineCurve", curve("line", json::object(), {"from", "to"})},
-        {"ArcCurve", curve("arc",
-                           {{"center", ref("Point")},
-                            {"direction", {{"type", "string"}, {"enum", {"ccw", "cw"}}, {"default", "ccw"}}}},
-                           {"from", "to", "center"})},
-        {"BSplineCurve", curve("bspline",
-                               {{"control_points", points()},
-                                {"degree", {{"type", "integer"}, {"minimum", 1}, {"maximum", 15}, {"default", 3}}},
-                                {"knots", {{"type", "array"}, {"items", number()}}}},
-                               {"control_points"})},
+        {"ArcCurve",
+         curve("arc",
+               {{"center", ref("Point")},
+                {"direction", {{"type", "string"}, {"enum", {"ccw", "cw"}}, {"default", "ccw"}}}},
+               {"from", "to", "center"})},
+        {"BSplineCurve",
+         curve("bspline",
+               {{"control_points", points()},
+                {"degree", {{"type", "integer"}, {"minimum", 1}, {"maximum", 15}, {"default", 3}}},
+                {"knots", {{"type", "array"}, {"items", number()}}}},
+               {"control_points"})},
         {"SplineCurve", curve("spline", {{"through", points()}}, {"through"})},
         {"NacaCurve", curve("naca", naca, {"code"})},
         {"AirfoilCurve", curve("airfoil", airfoil, {"coordinates"})},
@@ -69,9 +83,11 @@ json curves() {
 
 json request() {
     json curve_kinds = json::array();
-    for (const char* k : {"LineCurve", "ArcCurve", "BSplineCurve", "SplineCurve", "NacaCurve", "AirfoilCurve"})
+    for (const char* k :
+         {"LineCurve", "ArcCurve", "BSplineCurve", "SplineCurve", "NacaCurve", "AirfoilCurve"})
         curve_kinds.push_back(ref(k));
-    const json scalar = {{"oneOf", {number(), {{"type", "string"}, {"description", "an expression in x and y"}}}}};
+    const json scalar = {
+        {"oneOf", {number(), {{"type", "string"}, {"description", "an expression in x and y"}}}}};
     const json names = {{"type", "array"}, {"items", string()}};
     return {
         {"type", "object"},
@@ -88,7 +104,8 @@ json request() {
               {"loops",
                {{"type", "array"},
                 {"items", names},
-                {"description", "curve names; \"-name\" runs a curve backwards; the outer loop and the holes"}}},
+                {"description",
+                 "curve names; \"-name\" runs a curve backwards; the outer loop and the holes"}}},
               {"embedded", names}}}}},
           {"density",
            {{"type", "object"},
@@ -97,7 +114,9 @@ json request() {
             {"properties",
              {{"size", scalar},
               {"curves", {{"type", "object"}, {"additionalProperties", scalar}}},
-              {"interior", {{"type", "string"}, {"description", "\"interpolate\" (the paper's eq. 6.1) or an expression"}}},
+              {"interior",
+               {{"type", "string"},
+                {"description", "\"interpolate\" (the paper's eq. 6.1) or an expression"}}},
               {"gradation", number()},
               {"min", number()},
               {"max", number()}}}}},
@@ -105,32 +124,46 @@ json request() {
            {{"type", "object"},
             {"additionalProperties", false},
             {"properties",
-             {{"smoothing_iterations", {{"type", "integer"}, {"minimum", 0}, {"maximum", 1000}, {"default", 5}}},
-              {"triangulator", {{"type", "string"}, {"enum", {"delaunay", "advancing-front"}}, {"default", "delaunay"}}},
+             {{"smoothing_iterations",
+               {{"type", "integer"}, {"minimum", 0}, {"maximum", 1000}, {"default", 5}}},
+              {"triangulator",
+               {{"type", "string"},
+                {"enum", {"delaunay", "advancing-front"}},
+                {"default", "delaunay"}}},
               {"max_points", {{"type", "integer"}, {"minimum", 1}, {"maximum", 4000000000LL}}},
               {"timeout_s", {{"type", "number"}, {"minimum", 0}, {"exclusiveMinimum", true}}},
-              {"min_angle_deg", {{"type", "number"}, {"minimum", 0}, {"maximum", 34}, {"default", 0}}}}}}}}},
+              {"min_angle_deg",
+               {{"type", "number"}, {"minimum", 0}, {"maximum", 34}, {"default", 0}}}}}}}}},
         {"example", json::parse(kExampleRequest)}};
 }
 
 json metrics() {
-    const json number_stats = {{"type", "object"}, {"properties", {{"min", number()}, {"max", number()}, {"mean", number()}}}};
-    return {{"type", "object"},
+    const json number_stats = {
+        {"type", "object"},
+        {"properties", {{"min", number()}, {"max", number()}, {"mean", number()}}}};
+    return {
+        {"type", "object"},
+        {"properties",
+         {{"points", {{"type", "integer"}}},
+          {"boundary_points", {{"type", "integer"}}},
+          {"interior_points", {{"type", "integer"}}},
+          {"triangles", {{"type", "integer"}}},
+          {"angle_deg", number_stats},
+          {"quality",
+           {{"type", "object"},
             {"properties",
-             {{"points", {{"type", "integer"}}},
-              {"boundary_points", {{"type", "integer"}}},
-              {"interior_points", {{"type", "integer"}}},
-              {"triangles", {{"type", "integer"}}},
-              {"angle_deg", number_stats},
-              {"quality",
-               {{"type", "object"},
-                {"properties",
-                 {{"min", number()},
-                  {"mean", number()},
-                  {"histogram", {{"type", "array"}, {"items", {{"type", "integer"}}}, {"minItems", 10}, {"maxItems", 10}}}}}}},
-              {"size_ratio", {{"type", "object"}, {"properties", {{"mean", number()}, {"within_sqrt2", number()}}}}},
-              {"timings_ms", {{"type", "object"}, {"additionalProperties", number()}}},
-              {"predicates_exact", {{"type", "object"}, {"additionalProperties", {{"type", "integer"}}}}}}}};
+             {{"min", number()},
+              {"mean", number()},
+              {"histogram",
+               {{"type", "array"},
+                {"items", {{"type", "integer"}}},
+                {"minItems", 10},
+                {"maxItems", 10}}}}}}},
+          {"size_ratio",
+           {{"type", "object"}, {"properties", {{"mean", number()}, {"within_sqrt2", number()}}}}},
+          {"timings_ms", {{"type", "object"}, {"additionalProperties", number()}}},
+          {"predicates_exact",
+           {{"type", "object"}, {"additionalProperties", {{"type", "integer"}}}}}}}};
 }
 
 }  // namespace
@@ -148,11 +181,17 @@ std::string openapi_schemas() {
              {{"points", points()},
               {"triangles",
                {{"type", "array"},
-                {"items", {{"type", "array"}, {"items", {{"type", "integer"}}}, {"minItems", 3}, {"maxItems", 3}}}}},
+                {"items",
+                 {{"type", "array"},
+                  {"items", {{"type", "integer"}}},
+                  {"minItems", 3},
+                  {"maxItems", 3}}}}},
               {"boundaries",
                {{"type", "object"},
                 {"description", "tag -> edges [a, b] (loop edges with the domain on their left)"},
-                {"additionalProperties", {{"type", "array"}, {"items", {{"type", "array"}, {"items", {{"type", "integer"}}}}}}}}}}}}},
+                {"additionalProperties",
+                 {{"type", "array"},
+                  {"items", {{"type", "array"}, {"items", {{"type", "integer"}}}}}}}}}}}}},
           {"metrics", ref("Metrics")}}}};
     s["Metrics"] = metrics();
     s["Problem"] = {{"type", "object"},
@@ -162,7 +201,9 @@ std::string openapi_schemas() {
                       {"title", string()},
                       {"status", {{"type", "integer"}}},
                       {"detail", string()},
-                      {"pointer", {{"type", "string"}, {"description", "JSON pointer to the offending field of the request"}}}}}};
+                      {"pointer",
+                       {{"type", "string"},
+                        {"description", "JSON pointer to the offending field of the request"}}}}}};
     return s.dump();
 }
 

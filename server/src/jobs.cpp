@@ -187,26 +187,29 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
     std::shared_ptr<const core::MeshResult> result;
     std::optional<api::Problem> error;
     JobStatus status = JobStatus::Succeeded;
-    if (job->cancel) status = JobStatus::Cancelled;
-    else try {
-        const api::MeshRequest& req = job->request;
-        result = std::make_shared<const core::MeshResult>(
-            core::generate_mesh(req.geometry, req.density, req.options, &obs));
-    } catch (...) {
-        api::Problem p = api::problem_of(std::current_exception());
-        status = JobStatus::Failed;
-        if (api::is_cancellation(p)) {
-            if (obs.timed_out())
-                error = api::Problem{422, "/v1/problems/timeout", "Time limit exceeded",
-                                     "the mesh was not finished within " + std::to_string(limit) + " s",
-                                     job->request.timeout_s ? "/options/timeout_s" : ""};
-            else
-                status = JobStatus::Cancelled;
-        } else {
-            if (p.status == 413 && job->server_point_limit)
-                p.detail += " (the server's limit is " + std::to_string(config_.max_points) + " points)";
-            if (p.status == 500) spdlog::error("job {} internal error: {}", job->id, p.detail);
-            error = std::move(p);
+    if (job->cancel) {
+        status = JobStatus::Cancelled;
+    } else {
+        try {
+            const api::MeshRequest& req = job->request;
+            result = std::make_shared<const core::MeshResult>(
+                core::generate_mesh(req.geometry, req.density, req.options, &obs));
+        } catch (...) {
+            api::Problem p = api::problem_of(std::current_exception());
+            status = JobStatus::Failed;
+            if (api::is_cancellation(p)) {
+                if (obs.timed_out())
+                    error = api::Problem{422, "/v1/problems/timeout", "Time limit exceeded",
+                                         "the mesh was not finished within " + std::to_string(limit) + " s",
+                                         job->request.timeout_s ? "/options/timeout_s" : ""};
+                else
+                    status = JobStatus::Cancelled;
+            } else {
+                if (p.status == 413 && job->server_point_limit)
+                    p.detail += " (the server's limit is " + std::to_string(config_.max_points) + " points)";
+                if (p.status == 500) spdlog::error("job {} internal error: {}", job->id, p.detail);
+                error = std::move(p);
+            }
         }
     }
     job->request = {};  // the worker is done with it; the job record may live a while

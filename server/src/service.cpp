@@ -1,4 +1,4 @@
-// The routes of API.md.
+// The routes of docs/api.md.
 
 #include "meshd/server/service.hpp"
 

@@ -264,7 +264,7 @@ TEST(InverseDistance, TreecodeMeetsItsBoundAgainstTheExactFormula) {
         lengths.push_back(distance(disc.point(s.a), disc.point(s.b)));
     }
     for (double tol : {1e-2, 1e-3, 1e-4}) {
-        InverseDistanceField idw(starts, lengths, tol);
+        InverseDistanceField field(starts, lengths, tol);
         std::mt19937_64 rng(7);
         std::uniform_real_distribution<double> r(0.0, 1.0);
         double worst = 0.0;
@@ -277,18 +277,18 @@ TEST(InverseDistance, TreecodeMeetsItsBoundAgainstTheExactFormula) {
                 const double rad = 20 * std::sqrt(r(rng)), ang = 2 * std::numbers::pi * r(rng);
                 p = {0.5 + rad * std::cos(ang), rad * std::sin(ang)};
             }
-            const double exact = idw.exact(p);
-            worst = std::fmax(worst, std::fabs(idw(p) - exact) / exact);
+            const double exact = field.exact(p);
+            worst = std::fmax(worst, std::fabs(field(p) - exact) / exact);
         }
         EXPECT_LE(worst, tol) << "tolerance " << tol;
         EXPECT_GT(worst, 0.0);  // the approximation is really used
     }
     // At a boundary vertex the formula gives that segment's length.
-    InverseDistanceField idw(starts, lengths);
-    EXPECT_DOUBLE_EQ(idw(starts[10]), lengths[10]);
+    InverseDistanceField field(starts, lengths);
+    EXPECT_DOUBLE_EQ(field(starts[10]), lengths[10]);
     // Through the size field, after the boundary is known.
     set_interpolation_sources(f, disc);
     const double mid = f.interior({0.5, 0.5});
     EXPECT_GT(mid, 0.0);
-    EXPECT_NEAR(mid, idw.exact({0.5, 0.5}), 1e-3 * mid);
+    EXPECT_NEAR(mid, field.exact({0.5, 0.5}), 1e-3 * mid);
 }

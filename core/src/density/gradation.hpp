@@ -1,5 +1,5 @@
 #pragma once
-/// Gradation (API.md, density.gradation): sizes may grow by at most the ratio g from one
+/// Gradation (docs/api.md, density.gradation): sizes may grow by at most the ratio g from one
 /// element to the next, i.e. |grad h| <= g - 1. The corrected field is the lower envelope
 ///
 ///   h'(x) = min( h(x), min_i ( h_i + (g - 1) |x - s_i| ) )

@@ -1,4 +1,4 @@
-// Treecode for eq. (6.1); the error analysis is in idw.hpp.
+// Treecode for eq. (6.1); the error analysis is in inverse_distance.hpp.
 
 #include "density/inverse_distance.hpp"
 

@@ -16,7 +16,8 @@ namespace meshd::core {
 /// Delaunay. A split boundary edge gets its new point on the domain's curve (at the mean
 /// parameter of its ends), not on the chord. Stops at max_points (0: no limit). Returns the
 /// number of points added.
-std::uint64_t refine_min_angle(Mesh& mesh, const Domain& domain, const SizeField& rho, double min_angle_deg,
-                               size_t max_points = 0, Observer* observer = nullptr);
+std::uint64_t refine_min_angle(Mesh& mesh, const Domain& domain, const SizeField& rho,
+                               double min_angle_deg, size_t max_points = 0,
+                               Observer* observer = nullptr);
 
 }  // namespace meshd::core

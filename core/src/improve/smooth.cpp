@@ -1,11 +1,11 @@
-// Laplacian smoothing with guards, then a repair of the smallest angles; see mesher.hpp.
+// Laplacian smoothing with guards, then a repair of the smallest angles; see smooth.hpp.
 //
 // A sweep visits the points that are still settling: a point whose Laplacian move is below
 // kSettled of its spoke length stays put, and only the neighbours of points that moved are
 // visited again. The corners around each point come from a table built once, since nothing
-// flips during the sweeps: the Delaunay property is restored by flips after them
-// (ALGORITHM.md, section 5: "afterwards"; restoring it after every sweep gave the same
-// quality figures on the benchmark case at a third more time). The repair then walks stars
+// flips during the sweeps: the Delaunay property is restored by flips once, after them
+// (restoring it after every sweep gave the same quality figures on the benchmark case at a
+// third more time). The repair then walks stars
 // in the triangle adjacency, which its flips keep current.
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 #pragma once
-// Laplacian smoothing and the angle repair (ALGORITHM.md, section 5).
+// Laplacian smoothing and the angle repair (paper, section 5; docs/method.md).
 
 #include <cstdint>
 
@@ -14,6 +14,7 @@ namespace meshd::core {
 /// Last, the interior corners of triangles with an angle below 34 degrees are placed where
 /// the smallest angle of their star is largest (a pattern search), again followed by flips.
 /// Returns the number of moves made; adds the flips to *flips when given.
-std::uint64_t smooth(Mesh& mesh, int iterations, std::uint64_t* flips = nullptr, Observer* observer = nullptr);
+std::uint64_t smooth(Mesh& mesh, int iterations, std::uint64_t* flips = nullptr,
+                     Observer* observer = nullptr);
 
 }  // namespace meshd::core

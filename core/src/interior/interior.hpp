@@ -3,7 +3,7 @@
 ///
 /// The front starts as the segments of the discretised boundary (loops with the domain on
 /// their left; embedded curves in both directions), all active. The last active segment AB
-/// proposes a point C on its left (the four cases of (4.6), as ALGORITHM.md reads them), and
+/// proposes a point C on its left (the four cases of (4.6)), and
 /// optionally corrects it towards (4.4) by a fixed-point iteration. C is accepted when every
 /// other point P is farther than (rho(C) + rho(P)) / 2 (4.22), AC and BC cross no front
 /// segment and no boundary or embedded segment, and C lies in the domain; then AB is

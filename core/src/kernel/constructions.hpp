@@ -10,7 +10,8 @@ namespace meshd::core {
 inline Vec2 circumcentre(Vec2 a, Vec2 b, Vec2 c) {
     const Vec2 ab = b - a, ac = c - a;
     const double d = 2.0 * cross(ab, ac);
-    return a + Vec2{(ac.y * norm2(ab) - ab.y * norm2(ac)) / d, (ab.x * norm2(ac) - ac.x * norm2(ab)) / d};
+    return a + Vec2{(ac.y * norm2(ab) - ab.y * norm2(ac)) / d,
+                    (ab.x * norm2(ac) - ac.x * norm2(ab)) / d};
 }
 
 }  // namespace meshd::core

@@ -15,11 +15,12 @@ namespace meshd::core {
 /// rho^-2 over the domain; stops counting once past `limit`. Within about 10% on smooth
 /// densities. `rho` must be ready for interior queries.
 double estimate_point_count(const Discretisation& boundary, const BoundaryTriangulation& walls,
-                            const SizeField& rho, double limit = HUGE_VAL, Observer* observer = nullptr);
+                            const SizeField& rho, double limit = HUGE_VAL,
+                            Observer* observer = nullptr);
 
 /// Limits the growth of rho inside the domain to its gradation (density/gradation.hpp):
 /// samples the boundary points and the interior, then sets them as the gradation sources.
-void set_gradation_sources(SizeField& rho, const Discretisation& boundary, const BoundaryTriangulation& walls,
-                           Observer* observer = nullptr);
+void set_gradation_sources(SizeField& rho, const Discretisation& boundary,
+                           const BoundaryTriangulation& walls, Observer* observer = nullptr);
 
 }  // namespace meshd::core

@@ -1,5 +1,5 @@
 #pragma once
-/// The mesh request of API.md: JSON in, core types out. Every field is checked for type and
+/// The mesh request of docs/api.md: JSON in, core types out. Every field is checked for type and
 /// range; unknown fields are refused (a typo must never change a mesh silently); errors name
 /// the field by its JSON pointer.
 

@@ -1,5 +1,5 @@
 #pragma once
-/// Mesh writers: the JSON response of API.md, legacy VTK (binary, big-endian), SU2, Gmsh
+/// Mesh writers: the JSON response of docs/api.md, legacy VTK (binary, big-endian), SU2, Gmsh
 /// MSH 4.1 and SVG. All write straight to a stream as they go: no second copy of the mesh
 /// is built as text.
 
@@ -18,7 +18,7 @@ std::optional<Format> parse_format(std::string_view name);
 const char* format_name(Format f);
 const char* content_type(Format f);
 
-/// The metrics object of the JSON response (API.md), as JSON text.
+/// The metrics object of the JSON response (docs/api.md), as JSON text.
 std::string metrics_json(const core::MeshResult& r);
 
 /// Memory a finished result holds (its arrays, roughly), for the server's result budget.

@@ -74,7 +74,7 @@ struct Mesh {
     Vec2 point(VertexId v) const { return {x[v], y[v]}; }
 };
 
-/// The figures of a mesh, as the service reports them (API.md, "metrics").
+/// The figures of a mesh, as the service reports them (docs/api.md, "metrics").
 struct QualityMetrics {
     size_t points = 0, boundary_points = 0, interior_points = 0, triangles = 0;
     double angle_min = 0, angle_max = 0, angle_mean = 0;  ///< degrees

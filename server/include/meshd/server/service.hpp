@@ -1,5 +1,5 @@
 #pragma once
-/// The HTTP service of API.md over cpp-httplib: routes, problems, streaming responses,
+/// The HTTP service of docs/api.md over cpp-httplib: routes, problems, streaming responses,
 /// metrics, logging, readiness and draining. Holds no geometry: requests go to api/, work to
 /// the JobManager.
 
