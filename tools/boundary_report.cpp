@@ -1,7 +1,7 @@
 // Prints, for the paper's Fig. 9 and Fig. 10 densities on a NACA 0012, the number of boundary
 // points per curve and how closely the segments follow rho; then compares the two spacing
 // modes of B-splines (arc length, the paper's control polygon) on airfoils given as points.
-// Output is Markdown, ready for the README.
+// Output is Markdown, ready for docs/method.md.
 
 #include <cmath>
 #include <cstdio>
