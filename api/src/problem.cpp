@@ -80,7 +80,7 @@ namespace {
 constexpr const char* kCancelledType = "/v1/problems/cancelled";
 }  // namespace
 
-Problem problem_of(std::exception_ptr error) {
+Problem problem_of(std::exception_ptr error, std::string* log) {
     try {
         std::rethrow_exception(error);
     } catch (const RequestError& e) {
@@ -89,7 +89,12 @@ Problem problem_of(std::exception_ptr error) {
         return problem_from(e);
     } catch (const core::Cancelled&) {
         return Problem{503, kCancelledType, "Cancelled", "the mesh was cancelled before it was finished", ""};
+    } catch (const core::InternalError& e) {
+        if (log) *log = e.what();
+        return Problem{500, "/v1/problems/internal", "Internal error",
+                       "meshd failed on this request (a bug; please report it with the request): " + e.message(), ""};
     } catch (const std::exception& e) {
+        if (log) *log = e.what();
         return Problem{500, "/v1/problems/internal", "Internal error",
                        std::string("meshd failed on this request (a bug; please report it with the request): ") +
                            e.what(),

@@ -85,6 +85,22 @@ core::ScalarSpec scalar(const json& j, const std::string& ptr) {
     fail(ptr, std::string("expected a number or an expression string, got ") + type_name(j), "wrong-type");
 }
 
+// The rule for tags, one for every format (docs/api.md): 1 to 256 characters, no control
+// characters (below U+0020, U+007F) and no double quote; the writers escape what their
+// format needs beyond that. Returns what is wrong, or nullptr.
+const char* bad_tag(const std::string& tag) {
+    if (tag.empty()) return "is empty";
+    size_t characters = 0;  // UTF-8: every byte but continuation bytes starts one
+    for (const char ch : tag) characters += (static_cast<unsigned char>(ch) & 0xc0) != 0x80;
+    if (characters > kMaxTagCharacters) return "is longer than 256 characters";
+    for (const char ch : tag) {
+        const auto u = static_cast<unsigned char>(ch);
+        if (u < 0x20 || u == 0x7f) return "holds a control character";
+        if (ch == '"') return "holds a double quote";
+    }
+    return nullptr;
+}
+
 core::AirfoilPlacement placement(const json& c, const std::string& ptr) {
     core::AirfoilPlacement p;
     if (c.contains("chord")) p.chord = number(c["chord"], ptr + "/chord");
@@ -118,6 +134,10 @@ core::CurveSpec curve(const std::string& name, const json& c, const std::string&
         }
     };
     if (c.contains("tag")) cs.tag = string(c["tag"], ptr + "/tag");
+    // The tag (the curve's name when it has none) names a boundary in every output format.
+    if (const char* why = bad_tag(cs.tag.value_or(name)))
+        fail(cs.tag ? ptr + "/tag" : ptr,
+             std::string(cs.tag ? "the tag" : "the curve's name, its tag when it has no \"tag\",") + " " + why);
     if (type == "line") {
         expect_object(c, ptr, {"type", "tag", "from", "to"});
         ends(true);
@@ -159,7 +179,8 @@ core::CurveSpec curve(const std::string& name, const json& c, const std::string&
         ends(false);
         if (!c.contains("code")) fail(ptr + "/code", "a naca curve needs a \"code\"", "missing-field");
         core::NacaSpec n;
-        n.code = c["code"].is_number_integer() ? std::to_string(c["code"].get<long long>()) : string(c["code"], ptr + "/code");
+        // A string: as a number, "0012" would lose its leading zeros.
+        n.code = string(c["code"], ptr + "/code");
         n.placement = placement(c, ptr);
         n.trailing_edge = trailing_edge(c, ptr, core::TrailingEdge::Closed);
         if (c.contains("surface")) {
@@ -255,7 +276,8 @@ void options(const json& o, MeshRequest& r) {
         else fail(ptr + "/triangulator", "triangulator must be \"delaunay\" or \"advancing-front\"");
     }
     if (o.contains("max_points"))
-        r.options.max_points = static_cast<size_t>(integer(o["max_points"], ptr + "/max_points", 1, 4'000'000'000LL));
+        r.options.max_points = static_cast<size_t>(
+            integer(o["max_points"], ptr + "/max_points", 1, static_cast<long long>(core::kMaxPointsLimit)));
     if (o.contains("timeout_s")) {
         const double t = number(o["timeout_s"], ptr + "/timeout_s");
         if (!(t > 0.0)) fail(ptr + "/timeout_s", "timeout_s must be positive");
@@ -351,6 +373,9 @@ MeshRequest parse_request(std::string_view body) {
     } catch (const json::parse_error& e) {
         throw bad_request("malformed-json", "Malformed request",
                           "the body is not valid JSON (at byte " + std::to_string(e.byte) + ")", "");
+    } catch (const json::out_of_range&) {
+        throw bad_request("malformed-json", "Malformed request",
+                          "the body holds a number beyond the range of a double (about 1.8e308)", "");
     }
     if (const auto& where = duplicates.found())
         throw bad_request("duplicate-field", "Invalid request",

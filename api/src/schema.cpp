@@ -29,7 +29,11 @@ json curve(const char* type, json members, std::vector<std::string> required) {
     json props = {
         {"type", {{"type", "string"}, {"enum", {type}}}},
         {"tag",
-         {{"type", "string"}, {"description", "boundary marker; the curve's name when absent"}}},
+         {{"type", "string"},
+          {"pattern", "^[^\\u0000-\\u001f\\u007f\"]{1,256}$"},
+          {"description",
+           "boundary marker; the curve's name when absent (1 to 256 characters, no control "
+           "character, no double quote)"}}},
         {"from", {{"type", "string"}, {"description", "name of the start point"}}},
         {"to", {{"type", "string"}, {"description", "name of the end point"}}}};
     props.update(members);
@@ -50,9 +54,8 @@ json placement() {
 
 json curves() {
     json naca = placement();
-    naca["code"] = {
-        {"oneOf", {{{"type", "string"}}, {{"type", "integer"}}}},
-        {"description", "a NACA 4- or 5-digit designation such as \"0012\" or \"23012\""}};
+    naca["code"] = {{"type", "string"},
+                    {"description", "a NACA 4- or 5-digit designation such as \"0012\" or \"23012\""}};
     naca["trailing_edge"] = {
         {"type", "string"}, {"enum", {"closed", "open"}}, {"default", "closed"}};
     naca["surface"] = {
@@ -130,7 +133,7 @@ json request() {
                {{"type", "string"},
                 {"enum", {"delaunay", "advancing-front"}},
                 {"default", "delaunay"}}},
-              {"max_points", {{"type", "integer"}, {"minimum", 1}, {"maximum", 4000000000LL}}},
+              {"max_points", {{"type", "integer"}, {"minimum", 1}, {"maximum", static_cast<long long>(core::kMaxPointsLimit)}}},
               {"timeout_s", {{"type", "number"}, {"minimum", 0}, {"exclusiveMinimum", true}}},
               {"min_angle_deg",
                {{"type", "number"}, {"minimum", 0}, {"maximum", 34}, {"default", 0}}}}}}}}},

@@ -5,6 +5,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "meshd/core/mesher.hpp"
+
 namespace meshd::server {
 
 namespace {
@@ -56,7 +58,8 @@ const std::vector<Option>& options() {
         {"--max-body-mb", "MESHD_MAX_BODY_MB", "largest request body in MiB (default 32)",
          [](Config& c, const std::string& v) { c.max_body_bytes = static_cast<size_t>(to_int("--max-body-mb", v, 1, 4096)) << 20; }},
         {"--max-points", "MESHD_MAX_POINTS", "largest mesh of one job, in points (default 5000000)",
-         [](Config& c, const std::string& v) { c.max_points = static_cast<size_t>(to_int("--max-points", v, 10, 2'000'000'000)); }},
+         [](Config& c, const std::string& v) { c.max_points = static_cast<size_t>(
+             to_int("--max-points", v, 10, static_cast<long long>(meshd::core::kMaxPointsLimit))); }},
         {"--job-timeout-s", "MESHD_JOB_TIMEOUT_S", "wall time of one job (default 300)",
          [](Config& c, const std::string& v) { c.job_timeout_s = to_double("--job-timeout-s", v, 0.001); }},
         {"--job-ttl-s", "MESHD_JOB_TTL_S", "how long finished jobs are kept (default 900)",

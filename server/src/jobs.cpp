@@ -195,7 +195,8 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
             result = std::make_shared<const core::MeshResult>(
                 core::generate_mesh(req.geometry, req.density, req.options, &obs));
         } catch (...) {
-            api::Problem p = api::problem_of(std::current_exception());
+            std::string log;
+            api::Problem p = api::problem_of(std::current_exception(), &log);
             status = JobStatus::Failed;
             if (api::is_cancellation(p)) {
                 if (obs.timed_out())
@@ -207,7 +208,7 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
             } else {
                 if (p.status == 413 && job->server_point_limit)
                     p.detail += " (the server's limit is " + std::to_string(config_.max_points) + " points)";
-                if (p.status == 500) spdlog::error("job {} internal error: {}", job->id, p.detail);
+                if (p.status == 500) spdlog::error("job {} internal error: {}", job->id, log);
                 error = std::move(p);
             }
         }

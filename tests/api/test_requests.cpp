@@ -97,3 +97,15 @@ TEST(Problem, PointerTokensAreEscaped) {
     core::GeometryError e(core::GeometryErrorKind::BadNaca, "x", {core::Subject::curve("wing/1", {"code"})});
     EXPECT_EQ(api::problem_from(e).pointer, "/geometry/curves/wing~11/code");
 }
+
+// A bug's answer says what broke but not where in meshd's source (that goes to the log).
+TEST(Problem, InternalErrorsKeepSourceLocationsOutOfTheAnswer) {
+    std::string log;
+    const api::Problem p = api::problem_of(
+        std::make_exception_ptr(core::InternalError("a loop is open", "/build/meshd/core/src/x.cpp", 42)), &log);
+    EXPECT_EQ(p.status, 500);
+    EXPECT_NE(p.detail.find("a loop is open"), std::string::npos);
+    EXPECT_EQ(p.detail.find("x.cpp"), std::string::npos);
+    EXPECT_EQ(p.to_json().find("/build/"), std::string::npos);
+    EXPECT_NE(log.find("x.cpp:42"), std::string::npos);
+}

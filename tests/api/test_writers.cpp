@@ -158,7 +158,7 @@ TEST(Writers, SvgDrawsEveryTriangle) {
     size_t paths = 0;
     for (size_t p = s.find("<path fill="); p != std::string::npos; p = s.find("<path fill=", p + 1)) ++paths;
     EXPECT_EQ(paths, m.triangles.size());
-    EXPECT_NE(s.find("<title>\"wall\"</title>"), std::string::npos);
+    EXPECT_NE(s.find("<title>wall</title>"), std::string::npos);
 }
 
 TEST(Writers, FormatNames) {
@@ -166,4 +166,32 @@ TEST(Writers, FormatNames) {
         EXPECT_EQ(api::parse_format(api::format_name(f)), f);
     EXPECT_FALSE(api::parse_format("stl").has_value());
     EXPECT_STREQ(api::content_type(api::Format::Vtk), "application/octet-stream");
+}
+
+// A tag may hold markup characters (the rule of docs/api.md refuses only control characters
+// and double quotes): SVG gets them as entities, never as markup; MSH and SU2 keep the name.
+TEST(Writers, TagsAreEscapedInSvgAndKeptWholeInMshAndSu2) {
+    const std::string tag = "<script>alert('&')</script>";
+    const api::MeshRequest req = api::parse_request(
+        nlohmann::json{{"geometry",
+                        {{"points", {{"A", {0, 0}}, {"B", {1, 0}}, {"C", {1, 1}}, {"D", {0, 1}}}},
+                         {"curves",
+                          {{"bottom", {{"type", "line"}, {"from", "A"}, {"to", "B"}, {"tag", tag}}},
+                           {"right", {{"type", "line"}, {"from", "B"}, {"to", "C"}}},
+                           {"top", {{"type", "line"}, {"from", "C"}, {"to", "D"}}},
+                           {"left", {{"type", "line"}, {"from", "D"}, {"to", "A"}}}}},
+                         {"loops", {{"bottom", "right", "top", "left"}}}}},
+                       {"density", {{"size", 0.25}}}}
+            .dump());
+    const core::MeshResult r = core::generate_mesh(req.geometry, req.density, req.options);
+    auto text = [&](api::Format f) {
+        std::ostringstream os;
+        api::write_mesh(f, r, os);
+        return os.str();
+    };
+    const std::string svg = text(api::Format::Svg);
+    EXPECT_EQ(svg.find("<script"), std::string::npos);
+    EXPECT_NE(svg.find("<title>&lt;script&gt;alert(&apos;&amp;&apos;)&lt;/script&gt;</title>"), std::string::npos);
+    EXPECT_NE(text(api::Format::Msh).find("\"" + tag + "\"\n"), std::string::npos);
+    EXPECT_NE(text(api::Format::Su2).find("MARKER_TAG= " + tag + "\n"), std::string::npos);
 }

@@ -368,3 +368,22 @@ TEST(Naca, BadCodes) {
     spec.placement.angle_deg = NAN;
     EXPECT_EQ(kind_of([&] { make_naca(spec); }), GeometryErrorKind::NonFinite);
 }
+
+// A curve whose speed is not finite somewhere (what a point at 1e300 made of a spline) must
+// be refused, not refined without end: the arc-length model has a budget of pieces.
+TEST(ArcLength, ACurveWithoutAFiniteSpeedIsRefusedNotRefinedForever) {
+    class Wild final : public Curve {
+    public:
+        CurveType type() const override { return CurveType::Spline; }
+        double t_begin() const override { return 0.0; }
+        double t_end() const override { return 1.0; }
+        Vec2 point(double t) const override { return {t, 0.0}; }
+        Vec2 derivative(double t) const override { return {t > 0.3 && t < 0.4 ? HUGE_VAL : 1.0, 0.0}; }
+    } wild;
+    try {
+        curve_length(wild);
+        FAIL() << "no error";
+    } catch (const GeometryError& e) {
+        EXPECT_EQ(e.kind(), GeometryErrorKind::BadParameter);
+    }
+}

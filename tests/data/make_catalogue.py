@@ -81,6 +81,36 @@ case("a member a line does not have", 400, "/geometry/curves/bottom/center",
 case("a bspline degree that is not an integer", 400, "/geometry/curves/blob/degree",
      lambda b: g(b)["curves"].update({"blob": {"type": "bspline", "control_points": [[0.2, 0.2], [0.3, 0.3], [0.4, 0.2]],
                                                "degree": 1.5}}))
+case("a number beyond a double", 400, "", raw=json.dumps(BASE).replace('"size": 0.1', '"size": 1e400'))
+case("a NACA code as a number (it would lose its leading zeros)", 400, "/geometry/curves/wing/code",
+     lambda b: g(b)["curves"].update({"wing": {"type": "naca", "code": 12}}))
+case("a tag with a newline", 400, "/geometry/curves/bottom/tag", setp(["geometry", "curves", "bottom", "tag"], "wall\nx"))
+case("a tag with a double quote", 400, "/geometry/curves/bottom/tag", setp(["geometry", "curves", "bottom", "tag"], 'wa"ll'))
+case("an empty tag", 400, "/geometry/curves/bottom/tag", setp(["geometry", "curves", "bottom", "tag"], ""))
+case("a tag of 257 characters", 400, "/geometry/curves/bottom/tag", setp(["geometry", "curves", "bottom", "tag"], "w" * 257))
+
+
+def renamed(old, new):
+    def f(b):
+        c = g(b)["curves"]
+        c[new] = c.pop(old)
+        g(b)["loops"] = [[new if n == old else n for n in loop] for loop in g(b)["loops"]]
+    return f
+
+
+case("a curve named with a control character and no tag", 400, "/geometry/curves/ri\u0007ght",
+     renamed("right", "ri\u0007ght"))
+case("max_points beyond 2^28", 400, "/options/max_points", setp(["options"], {"max_points": 2**28 + 1}))
+case("a curve in no loop", 422, "/geometry/curves/extra",
+     lambda b: g(b)["curves"].update({"extra": {"type": "line", "from": "A", "to": "C"}}))
+case("a spline point beyond 1e30", 422, "/geometry/curves/blob/through/2",
+     lambda b: (g(b)["curves"].update({"blob": {"type": "spline", "through": [[0.2, 0.2], [0.4, 0.2], [1e300, 0.3],
+                                                                              [0.2, 0.4], [0.2, 0.2]]}}),
+                g(b)["loops"].append(["blob"])))
+case("an arc centre beyond 1e30", 422, "/geometry/curves/hole/center",
+     lambda b: (g(b)["points"].update({"H": [0.6, 0.5]}),
+                g(b)["curves"].update({"hole": {"type": "arc", "from": "H", "to": "H", "center": [-1e31, 0.5]}}),
+                g(b)["loops"].append(["hole"])))
 case("a point named twice", 400, "/geometry/points/A",
      raw=json.dumps(BASE).replace('"A": [0, 0],', '"A": [0, 0], "A": [0.5, 0],'))
 case("a curve member named twice", 400, "/geometry/curves/right/to",

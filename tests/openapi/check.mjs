@@ -65,6 +65,8 @@ const schemaCannotSay = new Map([
   ["a point named twice", "JSON.parse keeps the last of two equal names; the parser refuses them"],
   ["a curve member named twice", "as above"],
   ["an option named twice", "as above"],
+  ["a number beyond a double", "JSON.parse reads 1e400 as Infinity, a number to the schema; the parser refuses it"],
+  ["a curve named with a control character and no tag", "OpenAPI 3.0 schemas cannot constrain property names"],
 ]);
 const catalogue = JSON.parse(fs.readFileSync(path.join(source, "tests/data/bad_requests.json"), "utf8"));
 let compared = 0;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <ostream>
+#include <string>
 #include <vector>
 
 #include "meshd/api/writers.hpp"
@@ -53,6 +54,23 @@ inline std::vector<std::vector<const core::MeshEdge*>> edges_by_tag(const Mesh& 
     std::vector<std::vector<const core::MeshEdge*>> g(m.tags.size());
     for (const auto& e : m.edges) g[e.tag].push_back(&e);
     return g;
+}
+
+/// Text for XML character data and attribute values: & < > " ' as entities.
+inline std::string xml_escaped(const std::string& s) {
+    std::string out;
+    out.reserve(s.size());
+    for (const char c : s) {
+        switch (c) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            case '\'': out += "&apos;"; break;
+            default: out += c;
+        }
+    }
+    return out;
 }
 
 }  // namespace meshd::api::writers

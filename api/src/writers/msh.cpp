@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <nlohmann/json.hpp>
 
 #include "writers/common.hpp"
 
@@ -16,7 +15,7 @@ void write_msh(const MeshResult& r, std::ostream& os) {
     // Physical groups: one curve group per tag (tags 1..n), the surface as tag n + 1.
     const size_t ncurves = groups.size();
     os << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n" << ncurves + 1 << '\n';
-    for (size_t g = 0; g < ncurves; ++g) os << "1 " << g + 1 << ' ' << nlohmann::json(m.tags[g]).dump() << '\n';
+    for (size_t g = 0; g < ncurves; ++g) os << "1 " << g + 1 << " \"" << m.tags[g] << "\"\n";  // tags hold no '"' (request.cpp)
     os << "2 " << ncurves + 1 << " \"domain\"\n$EndPhysicalNames\n";
     // Entities: one curve entity per tag, one surface. Bounding boxes of their nodes.
     auto box_of = [&](auto&& each) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <nlohmann/json.hpp>
 
 #include "writers/common.hpp"
 
@@ -53,7 +52,7 @@ void write_svg(const MeshResult& r, std::ostream& os, std::optional<core::Box> v
     const auto groups = edges_by_tag(m);
     for (size_t g = 0; g < groups.size(); ++g) {
         os << "<g stroke=\"" << kColours[g % kColours.size()] << "\" stroke-width=\"" << Num(4 * stroke)
-           << "\" fill=\"none\"><title>" << nlohmann::json(m.tags[g]).dump() << "</title>\n<path d=\"";
+           << "\" fill=\"none\"><title>" << xml_escaped(m.tags[g]) << "</title>\n<path d=\"";
         for (const auto* e : groups[g])
             if (visible({e->a, e->b})) os << 'M' << X(m.x[e->a]) << ' ' << Y(m.y[e->a]) << 'L' << X(m.x[e->b]) << ' ' << Y(m.y[e->b]);
         os << "\"/></g>\n";

@@ -123,6 +123,9 @@ private:
         const double err = std::max({std::fabs(hermite(p, 0.25) - (s + l1)),
                                      std::fabs(hermite(p, 0.5) - (s + l1 + l2)),
                                      std::fabs(hermite(p, 0.75) - (s + l1 + l2 + l3))});
+        if (!std::isfinite(err) || pieces_.size() >= kMaxPieces)
+            throw GeometryError(GeometryErrorKind::BadParameter,
+                                "the curve's length cannot be computed: its shape is too extreme");
         if (depth >= 50 || err <= abs_tol_ || !(m > a && m < b)) {
             pieces_.push_back(p);
             s += whole;
@@ -132,6 +135,10 @@ private:
         build(c, a, m, da, dm, depth + 1, s);
         build(c, m, b, dm, db, depth + 1, s);
     }
+
+    // A curve no flattening could follow with this many pieces is refused rather than
+    // refined without end (a point far out makes every piece's error non-finite or huge).
+    static constexpr size_t kMaxPieces = size_t{1} << 18;
 
     std::vector<Piece> pieces_;
     double total_ = 0.0;

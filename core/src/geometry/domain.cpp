@@ -33,6 +33,37 @@ std::optional<CurveId> Domain::find_curve(const std::string& name) const {
 
 namespace {
 
+// The field of the first coordinate of a curve's description beyond kMaxCoordinate (the
+// exact predicates' range; also where arc lengths stop being computable), or nothing.
+std::optional<std::vector<std::string>> far_coordinate(const CurveShape& shape) {
+    auto far = [](double v) { return !(std::fabs(v) <= tol::kMaxCoordinate); };
+    auto in_list = [&](const std::vector<Vec2>& pts, const char* field) -> std::optional<std::vector<std::string>> {
+        for (size_t i = 0; i < pts.size(); ++i)
+            if (far(pts[i].x) || far(pts[i].y)) return std::vector<std::string>{field, std::to_string(i)};
+        return std::nullopt;
+    };
+    auto placed = [&](const AirfoilPlacement& p) -> std::optional<std::vector<std::string>> {
+        if (far(p.leading_edge.x) || far(p.leading_edge.y)) return std::vector<std::string>{"leading_edge"};
+        if (far(p.chord)) return std::vector<std::string>{"chord"};
+        return std::nullopt;
+    };
+    return std::visit(
+        [&](const auto& sh) -> std::optional<std::vector<std::string>> {
+            using T = std::decay_t<decltype(sh)>;
+            if constexpr (std::is_same_v<T, ArcShape>) {
+                if (far(sh.center.x) || far(sh.center.y)) return std::vector<std::string>{"center"};
+            } else if constexpr (std::is_same_v<T, BSplineShape>) {
+                return in_list(sh.control_points, "control_points");
+            } else if constexpr (std::is_same_v<T, SplineShape>) {
+                return in_list(sh.through, "through");
+            } else if constexpr (std::is_same_v<T, NacaSpec> || std::is_same_v<T, AirfoilSpec>) {
+                return placed(sh.placement);
+            }
+            return std::nullopt;
+        },
+        shape);
+}
+
 void name_curve(GeometryError& e, const std::string& name) {
     bool named = false;
     for (const Subject& s : e.subjects()) named |= s.kind == Subject::Kind::Curve && !s.name.empty();
@@ -168,6 +199,10 @@ Domain build_domain(const DomainSpec& spec) {
             throw GeometryError(K::BadParameter,
                                 "curve " + quoted(cs.name) + " needs both \"from\" and \"to\"",
                                 {Subject::curve(cs.name, {from ? "to" : "from"})});
+        if (const auto field = far_coordinate(cs.shape))
+            throw GeometryError(K::NonFinite,
+                                "curve " + quoted(cs.name) + " has a coordinate beyond 1e30 (" + (*field)[0] + ")",
+                                {Subject::curve(cs.name, *field)});
         std::unique_ptr<Curve> geom;
         try {
             std::visit(
@@ -267,7 +302,12 @@ Domain build_domain(const DomainSpec& spec) {
                                 "curve " + quoted(dc.name) + " ends at (" + std::to_string(ge.x) + ", " +
                                     std::to_string(ge.y) + "), not at its \"to\" point",
                                 {Subject::curve(dc.name, {"to"})});
-        dc.length = curve_length(*dc.geometry);
+        try {
+            dc.length = curve_length(*dc.geometry);
+        } catch (GeometryError& e) {
+            name_curve(e, dc.name);
+            throw;
+        }
         if (!std::isfinite(dc.length))
             throw GeometryError(K::NonFinite, "curve " + quoted(dc.name) + " has a non-finite length",
                                 {Subject::curve(dc.name)});
@@ -351,6 +391,13 @@ Domain build_domain(const DomainSpec& spec) {
     if (loops.empty()) throw GeometryError(K::NoOuterLoop, "the geometry has no loops", {});
     for (size_t ei = 0; ei < spec.embedded.size(); ++ei)
         d.embedded_.push_back(curve_of(spec.embedded[ei], Subject::embedded(static_cast<int>(ei))));
+    // A curve in no loop and not embedded is almost always one forgotten in a loop; it would
+    // also leave an empty boundary group in the mesh files.
+    for (CurveId c = 0; c < d.curves_.size(); ++c)
+        if (!used[c])
+            throw GeometryError(K::UnusedCurve,
+                                "curve " + quoted(d.curves_[c].name) + " is in no loop and not embedded",
+                                {Subject::curve(d.curves_[c].name)});
 
     // Flatten every used curve; end points are shared by index.
     const double dev = tol::kFlattenDeviation * extent;

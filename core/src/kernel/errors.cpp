@@ -21,6 +21,7 @@ const char* to_string(GeometryErrorKind kind) {
         case K::LoopNotClosed: return "loop-not-closed";
         case K::EmptyLoop: return "empty-loop";
         case K::CurveReused: return "curve-reused";
+        case K::UnusedCurve: return "unused-curve";
         case K::NoOuterLoop: return "no-outer-loop";
         case K::HoleOutside: return "hole-outside";
         case K::HolesOverlap: return "holes-overlap";

@@ -64,8 +64,10 @@ void assemble(Mesh& m, const Domain& domain, const Discretisation& d, const std:
 
 }  // namespace
 
-MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const MeshOptions& options,
+MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const MeshOptions& asked,
                          Observer* observer) {
+    MeshOptions options = asked;
+    if (options.max_points == 0 || options.max_points > kMaxPointsLimit) options.max_points = kMaxPointsLimit;
     MeshResult r;
     reset_predicate_counters();
     const auto t_start = Clock::now();

@@ -41,8 +41,10 @@ Problem problem_from(const core::GeometryError& e);
 
 /// The problem for whatever meshing a request threw: a RequestError's own problem, a
 /// GeometryError's (problem_from), Cancelled as the "cancelled" problem (is_cancellation),
-/// anything else a 500 that asks for the request to be reported (a bug).
-Problem problem_of(std::exception_ptr error);
+/// anything else a 500 that asks for the request to be reported (a bug). A 500's detail never
+/// holds meshd's source locations; `log`, when given, receives the full message for the
+/// server's log.
+Problem problem_of(std::exception_ptr error, std::string* log = nullptr);
 bool is_cancellation(const Problem& p);
 
 /// A JSON pointer token (RFC 6901): "~" -> "~0", "/" -> "~1".

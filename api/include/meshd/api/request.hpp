@@ -19,6 +19,8 @@ struct MeshRequest {
 
 /// Limits of the parser itself.
 inline constexpr int kMaxJsonDepth = 64;
+/// Longest tag (or curve name used as a tag), in characters.
+inline constexpr size_t kMaxTagCharacters = 256;
 
 /// Parses and checks the request's shape. Throws RequestError (400).
 MeshRequest parse_request(std::string_view body);

@@ -65,6 +65,7 @@ enum class GeometryErrorKind {
     LoopNotClosed,        ///< consecutive curves of a loop do not share their ends
     EmptyLoop,            ///< a loop with no curves
     CurveReused,          ///< a curve used twice in loops or embedded
+    UnusedCurve,          ///< a curve in no loop and not embedded
     NoOuterLoop,          ///< no loop encloses all the others
     HoleOutside,          ///< a hole not inside the outer loop
     HolesOverlap,         ///< two holes overlap or one holds the other
@@ -108,7 +109,12 @@ private:
 class InternalError : public Error {
 public:
     InternalError(const std::string& what, const char* file, int line)
-        : Error(what + " (" + file + ":" + std::to_string(line) + ")") {}
+        : Error(what + " (" + file + ":" + std::to_string(line) + ")"), message_(what) {}
+    /// What broke, without the source location (what() has both): for answers to clients.
+    const std::string& message() const { return message_; }
+
+private:
+    std::string message_;
 };
 
 class Cancelled : public Error {

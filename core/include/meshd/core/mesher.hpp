@@ -41,11 +41,17 @@ struct InteriorOptions {
     double proximity = 0.8;
 };
 
+/// The most points one mesh may have, whatever max_points says: vertex and triangle ids are
+/// 32 bits, and the smoothing stage packs a triangle id and a corner into one 32-bit word,
+/// which holds for fewer than 2^30 triangles (about twice the points).
+inline constexpr size_t kMaxPointsLimit = size_t{1} << 28;
+
 struct MeshOptions {
     int smoothing_iterations = 5;
     Triangulator triangulator = Triangulator::Delaunay;
     /// Refuse (GeometryError TooManyPoints) beyond this many points, before the interior
-    /// work when the estimate already exceeds it. 0: no limit.
+    /// work when the estimate already exceeds it. 0, or anything above kMaxPointsLimit:
+    /// kMaxPointsLimit.
     size_t max_points = 0;
     SplineSpacing spline_spacing = SplineSpacing::ArcLength;
     InteriorOptions interior;
