@@ -332,3 +332,18 @@ TEST(Mesher, MinAngleRefinementPutsNewBoundaryPointsOnTheirCurves) {
         EXPECT_NEAR(norm(r.mesh.point(v)), radius, 1e-12) << "point " << v;
     }
 }
+
+// A size far larger than the domain on one curve must not cut the curve into too few
+// segments to keep its loop (it gave "the outside reached the domain", a 500): the size is
+// capped at 90 degrees of turn per segment, so the circle keeps at least four.
+TEST(Mesher, AHugeSizeOnACurveStillKeepsItsLoop) {
+    const Domain dom = build_domain(annulus().domain);  // circles r = 1 and r = 0.3 about 0
+    DensitySpec d;
+    d.curves = {{"outer", 2147483648.0}, {"inner", 0.05}};  // eq. 6.1 inside
+    const MeshResult r = generate_mesh(dom, d);
+    expect_valid(r.mesh, "huge outer size");
+    const CurveId outer = *dom.find_curve("outer");
+    size_t outer_edges = 0;
+    for (const MeshEdge& e : r.mesh.edges) outer_edges += e.curve == outer;
+    EXPECT_GE(outer_edges, 4u);
+}

@@ -7,12 +7,34 @@
 
 #include "geometry/curve.hpp"
 #include "kernel/crossings.hpp"
+#include "kernel/tolerances.hpp"
 #include "meshd/core/errors.hpp"
 #include "boundary/spacing.hpp"
 
 namespace meshd::core {
 
 namespace {
+
+// The size that keeps the shape of curve g near parameter t of its smooth piece [ta, tb]:
+// kMaxSegmentTurn times the radius of curvature, from the turn of the tangent over a short
+// stretch inside the piece (never across its corners); never below min_size.
+double shape_cap(const Curve& g, double ta, double tb, double t, double min_size) {
+    const double inset = 1e-9 * (tb - ta), step = 1e-4 * (tb - ta);
+    const double t0 = std::fmax(t - step, ta + inset), t1 = std::fmin(t + step, tb - inset);
+    const Vec2 d0 = g.derivative(t0), d1 = g.derivative(t1);
+    const double turn = std::atan2(std::fabs(cross(d0, d1)), dot(d0, d1));
+    if (!(turn > 0.0)) return HUGE_VAL;  // straight here
+    return std::fmax(tol::kMaxSegmentTurn * distance(g.point(t0), g.point(t1)) / turn, min_size);
+}
+
+// The curve's size at one of its ends (start or end), as the discretisation used it.
+double end_size(const Curve& g, const SizeField& rho, CurveId c, bool at_start) {
+    const std::vector<double> corners = g.corners();
+    const double ta = at_start ? g.t_begin() : (corners.empty() ? g.t_begin() : corners.back());
+    const double tb = at_start ? (corners.empty() ? g.t_end() : corners.front()) : g.t_end();
+    const double t = at_start ? ta : tb;
+    return std::fmin(rho.on_curve(c, g.point(t)), shape_cap(g, ta, tb, t, rho.min_size()));
+}
 
 // Places the points of one curve after another, sharing the domain points at curve ends.
 class CurveSampler {
@@ -22,11 +44,12 @@ public:
         d_.curve_vertices.resize(domain.curves().size());
     }
 
-    VertexId add_vertex(Vec2 p, CurveId c, double t) {
+    VertexId add_vertex(Vec2 p, CurveId c, double t, double size) {
         d_.x.push_back(p.x);
         d_.y.push_back(p.y);
         d_.curve.push_back(c);
         d_.param.push_back(t);
+        d_.rho.push_back(size);
         if (opt_.max_points && d_.x.size() > opt_.max_points)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
                                 "the boundary alone needs more than " + std::to_string(opt_.max_points) +
@@ -35,7 +58,8 @@ public:
     }
 
     VertexId domain_vertex(PointId p) {
-        if (domain_vertex_[p] == kNoVertex) domain_vertex_[p] = add_vertex(domain_.points()[p].position, kNoCurve, 0.0);
+        if (domain_vertex_[p] == kNoVertex)
+            domain_vertex_[p] = add_vertex(domain_.points()[p].position, kNoCurve, 0.0, HUGE_VAL);
         return domain_vertex_[p];
     }
 
@@ -44,10 +68,19 @@ public:
         const Curve& g = *dc.geometry;
         auto param = make_parametrisation(g, opt_.spline_spacing);
         std::vector<VertexId>& out = d_.curve_vertices[c];
-        out.push_back(domain_vertex(dc.from));
         std::vector<double> cuts{g.t_begin()};
         for (double t : g.corners()) cuts.push_back(t);
         cuts.push_back(g.t_end());
+        // rho where the curve places a point at parameter t of its piece [ta, tb].
+        auto size_at = [&](double ta, double tb, double t) {
+            return std::fmin(rho_.on_curve(c, g.point(t)), shape_cap(g, ta, tb, t, rho_.min_size()));
+        };
+        auto end_vertex = [&](PointId p, double ta, double tb, double t) {
+            const VertexId v = domain_vertex(p);
+            d_.rho[v] = std::fmin(d_.rho[v], size_at(ta, tb, t));
+            return v;
+        };
+        out.push_back(end_vertex(dc.from, cuts[0], cuts[1], cuts[0]));
         const size_t limit = opt_.max_points ? 4 * opt_.max_points + 64 : size_t{1} << 31;
         for (size_t k = 0; k + 1 < cuts.size(); ++k) {
             const double sa = param->spacing_at(cuts[k]);
@@ -55,17 +88,24 @@ public:
             const double len = sb - sa;
             if (len > 0.0) {
                 const DensityProfile profile = sample_density(
-                    len, [&](double s) { return rho_.on_curve(c, g.point(param->param_at(sa + s))); },
+                    len,
+                    [&](double s) { return size_at(cuts[k], cuts[k + 1], param->param_at(sa + s)); },
                     rho_.min_size(), limit);
                 const std::vector<double> stations = graded_stations(profile);
                 for (size_t i = 1; i + 1 < stations.size(); ++i) {
                     const double t = param->param_at(sa + stations[i]);
-                    out.push_back(add_vertex(g.point(t), c, t));
+                    out.push_back(add_vertex(g.point(t), c, t, size_at(cuts[k], cuts[k + 1], t)));
                 }
             }
-            if (k + 2 < cuts.size()) out.push_back(add_vertex(g.point(cuts[k + 1]), c, cuts[k + 1]));
+            if (k + 2 < cuts.size()) {
+                // A corner inside the curve: the smaller size of the pieces on either side.
+                const double t = cuts[k + 1];
+                out.push_back(add_vertex(g.point(t), c, t,
+                                         std::fmin(size_at(cuts[k], cuts[k + 1], t), size_at(cuts[k + 1], cuts[k + 2], t))));
+            }
         }
-        out.push_back(domain_vertex(dc.to));
+        const size_t last = cuts.size() - 1;
+        out.push_back(end_vertex(dc.to, cuts[last - 1], cuts[last], cuts[last]));
     }
 
     Discretisation finish() && { return std::move(d_); }
@@ -173,16 +213,6 @@ std::vector<Constraint> constraints_of(const Discretisation& d) {
     return cons;
 }
 
-std::vector<double> point_sizes(const Discretisation& d, const SizeField& rho) {
-    std::vector<double> sizes(d.size(), HUGE_VAL);
-    for (const auto& s : d.segments)
-        for (VertexId v : {s.a, s.b})
-            if (d.curve[v] == kNoCurve) sizes[v] = std::fmin(sizes[v], rho.on_curve(s.curve, d.point(v)));
-    for (VertexId v = 0; v < d.size(); ++v)
-        if (d.curve[v] != kNoCurve) sizes[v] = rho.on_curve(d.curve[v], d.point(v));
-    return sizes;
-}
-
 void set_interpolation_sources(SizeField& rho, const Discretisation& d) {
     std::vector<Vec2> starts;
     std::vector<double> lengths;
@@ -219,9 +249,19 @@ void finalise(SpacingStats& st) {
 SpacingReport spacing_report(const Domain& domain, const SizeField& rho, const Discretisation& d) {
     SpacingReport r;
     r.per_curve.resize(domain.curves().size());
+    // The size a point was placed for: its own (capped to keep the curve's shape, see
+    // shape_cap), or at a curve end the segment's curve's density there.
+    // At a curve end, the end next to the segment's other point (both ends are one point on
+    // a closed curve).
+    auto size = [&](VertexId v, VertexId other, CurveId c) {
+        if (d.curve[v] == c) return d.rho[v];
+        const std::vector<VertexId>& on_curve = d.curve_vertices[c];
+        const bool at_start = v == on_curve.front() && other == on_curve[1];
+        return end_size(*domain.curves()[c].geometry, rho, c, at_start);
+    };
     for (const auto& s : d.segments) {
         const Vec2 a = d.point(s.a), b = d.point(s.b);
-        const double target = 0.5 * (rho.on_curve(s.curve, a) + rho.on_curve(s.curve, b));
+        const double target = 0.5 * (size(s.a, s.b, s.curve) + size(s.b, s.a, s.curve));
         const double ratio = distance(a, b) / target;
         accumulate(r.per_curve[s.curve], ratio);
         accumulate(r.overall, ratio);

@@ -35,6 +35,10 @@ struct Discretisation {
     std::vector<double> x, y;
     std::vector<CurveId> curve;   ///< owning curve; kNoCurve for domain points (curve ends)
     std::vector<double> param;    ///< curve parameter t (0 for domain points)
+    /// rho at each point as the points were placed: the curve's density, capped where it
+    /// would not keep the curve's shape (kMaxSegmentTurn); at a curve end, the smallest of
+    /// the curves meeting there.
+    std::vector<double> rho;
 
     /// Per domain curve, its vertices from start to end (empty for unused curves).
     std::vector<std::vector<VertexId>> curve_vertices;
@@ -70,15 +74,12 @@ BoundaryTriangulation triangulate_boundary(const Discretisation& d);
 std::vector<Vec2> points_of(const Discretisation& d);
 std::vector<Constraint> constraints_of(const Discretisation& d);
 
-/// rho at each point of the discretisation: its curve's density, or at a curve end the
-/// smallest density of the curves meeting there.
-std::vector<double> point_sizes(const Discretisation& d, const SizeField& rho);
-
 /// Sets the sources of eq. 6.1 from the discretisation: every segment's start and length.
 void set_interpolation_sources(SizeField& rho, const Discretisation& d);
 
 /// How well segment lengths follow rho: for each segment AB the ratio
-/// |AB| / ((rho(A) + rho(B)) / 2), where rho is the curve's density.
+/// |AB| / ((rho(A) + rho(B)) / 2), where rho is the size the points were placed for (the
+/// curve's density, capped where it would not keep the curve's shape).
 struct SpacingStats {
     size_t segments = 0;
     double mean_abs_error = 0.0;  ///< mean |ratio - 1|

@@ -39,8 +39,7 @@ public:
         // Points: the boundary's, with their curve densities.
         const size_t nb = d.size();
         pts_.reserve(nb * 4);
-        const std::vector<double> sizes = point_sizes(d, rho);
-        for (VertexId v = 0; v < nb; ++v) add_point(d.point(v), sizes[v], kNoTriangle);
+        for (VertexId v = 0; v < nb; ++v) add_point(d.point(v), d.rho[v], kNoTriangle);
         boundary_count_ = nb;
         for (size_t i = 0; i < d.segments.size(); ++i) {
             const auto& s = d.segments[i];

@@ -36,6 +36,11 @@ inline constexpr double kDefaultMinSize = 1e-6;
 /// (radians); corners are always points of the discretisation.
 inline constexpr double kCornerAngle = 1e-6;
 
+/// The most a boundary segment may turn the curve's tangent (radians): sizes are capped at
+/// this times the local radius of curvature, whatever the density asks, so that a coarse
+/// density keeps every curve's shape (a closed curve gets at least six segments).
+inline constexpr double kMaxSegmentTurn = 1.5707963267948966;  // 90 degrees
+
 /// Largest coordinate magnitude accepted (absolute). Exact predicates multiply up to four
 /// coordinates; this keeps every product far from overflow and underflow.
 inline constexpr double kMaxCoordinate = 1e30;

@@ -69,7 +69,7 @@ void set_gradation_sources(SizeField& rho, const Discretisation& d, const Bounda
                            Observer* observer) {
     // The boundary points with their curve densities, then the interior at its own size.
     std::vector<Vec2> pts = walls.points;
-    std::vector<double> sizes = point_sizes(d, rho);
+    std::vector<double> sizes = d.rho;
     for_each_sample(walls, rho, observer, [&](Vec2 g, double r, double) {
         pts.push_back(g);
         sizes.push_back(r);

@@ -89,7 +89,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         if (rho.interpolates()) set_interpolation_sources(rho, d);
         walls = triangulate_boundary(d);
     }
-    if (options.max_points) {
+    if (asked.max_points) {
         // Refuse before the interior work when the mesh would clearly be too large.
         const double limit = static_cast<double>(options.max_points);
         const double estimate = estimate_point_count(d, walls, rho, limit, observer);
