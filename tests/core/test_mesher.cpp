@@ -256,7 +256,7 @@ TEST(Mesher, GradationLimitsHowFastSizesGrow) {
     spec.gradation = g;
     SizeField graded(spec, dom);
     const Discretisation d = discretise_boundary(dom, graded);
-    set_gradation_sources(graded, d, triangulate_boundary(d));
+    set_gradation_sources(graded, d, triangulate_boundary(d), kMaxPointsLimit);
     ASSERT_TRUE(graded.graded());
     // Up to the sampling of the field (samples about one local size apart).
     EXPECT_LT(lipschitz_excess(graded), 0.01);
@@ -346,4 +346,29 @@ TEST(Mesher, AHugeSizeOnACurveStillKeepsItsLoop) {
     size_t outer_edges = 0;
     for (const MeshEdge& e : r.mesh.edges) outer_edges += e.curve == outer;
     EXPECT_GE(outer_edges, 4u);
+}
+
+// With a gradation, the field is sampled at about the local size before the point estimate;
+// a tiny size must be refused as soon as the sampling shows the mesh too large, not after
+// sampling the whole domain (more than 10^7 samples here; the boundary's 13,000 points are
+// within the limit). The sampler polls the observer every 2^16 steps: it refuses after about
+// 60 polls; the whole domain takes well over a thousand, where this observer stops it.
+TEST(Mesher, AGradedFieldOverTheLimitIsRefusedDuringSampling) {
+    struct Polls : Observer {
+        int n = 0;
+        bool should_stop() override { return ++n > 1000; }
+    } polls;
+    const Domain dom = build_domain(unit_square());
+    DensitySpec d;
+    d.size = 3e-4;
+    d.gradation = 1.2;
+    MeshOptions o;
+    o.max_points = 30000;
+    try {
+        generate_mesh(dom, d, o, &polls);
+        FAIL() << "no error";
+    } catch (const GeometryError& e) {
+        EXPECT_EQ(e.kind(), GeometryErrorKind::TooManyPoints);
+    }
+    EXPECT_LT(polls.n, 1000);
 }

@@ -18,9 +18,15 @@ double estimate_point_count(const Discretisation& boundary, const BoundaryTriang
                             const SizeField& rho, double limit = HUGE_VAL,
                             Observer* observer = nullptr);
 
+/// Throws GeometryError TooManyPoints: the mesh would have about `estimate` points, more
+/// than `limit`.
+[[noreturn]] void refuse_too_many(double estimate, size_t limit);
+
 /// Limits the growth of rho inside the domain to its gradation (density/gradation.hpp):
 /// samples the boundary points and the interior, then sets them as the gradation sources.
-void set_gradation_sources(SizeField& rho, const Discretisation& boundary,
-                           const BoundaryTriangulation& walls, Observer* observer = nullptr);
+/// The samples follow the field before the limit, so a field that would give more than
+/// max_points points is refused (refuse_too_many) as soon as the sampling shows it.
+void set_gradation_sources(SizeField& rho, const Discretisation& boundary, const BoundaryTriangulation& walls,
+                           size_t max_points, Observer* observer = nullptr);
 
 }  // namespace meshd::core

@@ -84,7 +84,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     if (rho.gradation()) {
         // Limit the growth of the field sampled from the first boundary, then place the
         // boundary points again along the limited field (and interpolate from those).
-        set_gradation_sources(rho, d, walls, observer);
+        set_gradation_sources(rho, d, walls, options.max_points, observer);
         d = discretise_boundary(domain, rho, bopt, observer);
         if (rho.interpolates()) set_interpolation_sources(rho, d);
         walls = triangulate_boundary(d);
@@ -93,10 +93,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         // Refuse before the interior work when the mesh would clearly be too large.
         const double limit = static_cast<double>(options.max_points);
         const double estimate = estimate_point_count(d, walls, rho, limit, observer);
-        if (estimate > limit)
-            throw GeometryError(GeometryErrorKind::TooManyPoints,
-                                "the mesh would have about " + std::to_string(static_cast<long long>(estimate)) +
-                                    " points or more, above the limit of " + std::to_string(options.max_points));
+        if (estimate > limit) refuse_too_many(estimate, options.max_points);
     }
     r.timings.boundary_ms = ms_since(t0);
 
