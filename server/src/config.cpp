@@ -66,6 +66,8 @@ const std::vector<Option>& options() {
          [](Config& c, const std::string& v) { c.job_ttl_s = to_double("--job-ttl-s", v, 0.0); }},
         {"--result-memory-mb", "MESHD_RESULT_MEMORY_MB", "memory for kept results, oldest evicted first (default 1024)",
          [](Config& c, const std::string& v) { c.result_memory_bytes = static_cast<size_t>(to_int("--result-memory-mb", v, 1, 1 << 20)) << 20; }},
+        {"--max-finished-jobs", "MESHD_MAX_FINISHED_JOBS", "finished jobs kept, oldest dropped first (default 10000)",
+         [](Config& c, const std::string& v) { c.max_finished_jobs = static_cast<size_t>(to_int("--max-finished-jobs", v, 1, 10'000'000)); }},
         {"--drain-s", "MESHD_DRAIN_S", "grace for running jobs on SIGTERM (default 30)",
          [](Config& c, const std::string& v) { c.drain_s = to_double("--drain-s", v, 0.0); }},
         {"--log-level", "MESHD_LOG_LEVEL", "trace, debug, info, warn, error, off (default info)",

@@ -89,6 +89,7 @@ std::shared_ptr<Job> JobManager::submit(api::MeshRequest request) {
         jobs_[job->id] = job;
         queue_.push_back(job);
         metrics_.set_queue(queue_.size(), busy_);
+        metrics_.set_jobs_kept(jobs_.size());
     }
     cv_.notify_one();
     return job;
@@ -125,13 +126,34 @@ bool JobManager::cancel(const std::string& id) {
             job->stage = "cancelled";
             job->finished = std::chrono::system_clock::now();
         }
+        {
+            std::lock_guard<std::mutex> lock(m_);
+            finished_order_.push_back(job);
+        }
         job->done_cv.notify_all();
         metrics_.job_finished("cancelled", 0.0, 0, 0);
         spdlog::info("job {} cancelled while queued", job->id);
-        std::lock_guard<std::mutex> lock(m_);
-        finished_order_.push_back(job);
     }
     return true;
+}
+
+void JobManager::forget(const std::shared_ptr<Job>& job) {
+    std::lock_guard<std::mutex> lock(m_);
+    {
+        std::lock_guard<std::mutex> jl(job->m);
+        if (job->result) result_bytes_ -= job->result_bytes;
+        job->result.reset();
+        job->expired = true;
+    }
+    jobs_.erase(job->id);
+    // It has just finished: look from the newest end.
+    for (auto it = finished_order_.rbegin(); it != finished_order_.rend(); ++it) {
+        if (*it == job) {
+            finished_order_.erase(std::next(it).base());
+            break;
+        }
+    }
+    metrics_.set_jobs_kept(jobs_.size());
 }
 
 size_t JobManager::queued() const {
@@ -166,7 +188,6 @@ void JobManager::work() {
             std::lock_guard<std::mutex> lock(m_);
             --busy_;
             metrics_.set_queue(queue_.size(), busy_);
-            finished_order_.push_back(job);
         }
         cv_.notify_all();
         housekeeping();
@@ -228,11 +249,14 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
         job->result_bytes = bytes;
         job->finished = std::chrono::system_clock::now();
     }
-    job->done_cv.notify_all();
     {
+        // The store knows the finished job before anyone waiting on it wakes (a synchronous
+        // request forgets its job at once).
         std::lock_guard<std::mutex> lock(m_);
         result_bytes_ += bytes;
+        finished_order_.push_back(job);
     }
+    job->done_cv.notify_all();
     metrics_.job_finished(to_string(status), secs, result ? result->quality.points : 0,
                           result ? result->quality.triangles : 0);
     spdlog::info("job {} {} points={} triangles={} time_ms={:.1f}{}", job->id, to_string(status),
@@ -255,6 +279,16 @@ void JobManager::housekeeping() {
             job->expired = true;
         }
     }
+    // Beyond the bound on finished records: forget the oldest.
+    while (finished_order_.size() > config_.max_finished_jobs) {
+        auto job = finished_order_.front();
+        finished_order_.pop_front();
+        std::lock_guard<std::mutex> jl(job->m);
+        if (job->result) result_bytes_ -= job->result_bytes;
+        job->result.reset();
+        job->expired = true;
+        jobs_.erase(job->id);
+    }
     // Old jobs: forget them.
     while (!finished_order_.empty()) {
         auto job = finished_order_.front();
@@ -271,6 +305,7 @@ void JobManager::housekeeping() {
         job->expired = true;
         jobs_.erase(job->id);
     }
+    metrics_.set_jobs_kept(jobs_.size());
 }
 
 void JobManager::drain(std::chrono::duration<double> grace) {

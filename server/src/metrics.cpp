@@ -52,6 +52,11 @@ void Metrics::job_finished(const std::string& status, double seconds, std::uint6
     triangles_ += triangles;
 }
 
+void Metrics::set_jobs_kept(size_t kept) {
+    std::lock_guard<std::mutex> lock(m_);
+    jobs_kept_ = kept;
+}
+
 void Metrics::set_queue(size_t depth, size_t busy) {
     std::lock_guard<std::mutex> lock(m_);
     queue_depth_ = depth;
@@ -75,6 +80,8 @@ std::string Metrics::render() const {
     job_seconds_.render(o, "meshd_job_duration_seconds", "");
     o += "# HELP meshd_queue_depth Jobs waiting for a worker.\n# TYPE meshd_queue_depth gauge\nmeshd_queue_depth " + std::to_string(queue_depth_) + "\n";
     o += "# HELP meshd_workers_busy Workers meshing now.\n# TYPE meshd_workers_busy gauge\nmeshd_workers_busy " + std::to_string(busy_) + "\n";
+    o += "# HELP meshd_jobs_kept Job records held (queued, running, finished and still answerable).\n"
+         "# TYPE meshd_jobs_kept gauge\nmeshd_jobs_kept " + std::to_string(jobs_kept_) + "\n";
     o += "# HELP meshd_points_total Points of all meshes made.\n# TYPE meshd_points_total counter\nmeshd_points_total " + std::to_string(points_) + "\n";
     o += "# HELP meshd_triangles_total Triangles of all meshes made.\n# TYPE meshd_triangles_total counter\nmeshd_triangles_total " + std::to_string(triangles_) + "\n";
     return o;

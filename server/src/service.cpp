@@ -245,15 +245,17 @@ void Service::install() {
         if (!job) return refuse_busy(res);
         std::unique_lock<std::mutex> lock(job->m);
         job->done_cv.wait(lock, [&] { return job->finished_locked(); });
-        if (job->status == JobStatus::Succeeded) {
-            auto result = job->result;
-            lock.unlock();
+        const JobStatus status = job->status;
+        auto result = job->result;  // the answer holds the mesh while it streams
+        const std::optional<api::Problem> error = job->error;
+        lock.unlock();
+        jobs_->forget(job);  // nobody asks for a synchronous job again
+        if (status == JobStatus::Succeeded)
             send_mesh(res, std::move(result), *f);
-        } else if (job->status == JobStatus::Failed) {
-            send_problem(res, *job->error);
-        } else {
+        else if (status == JobStatus::Failed)
+            send_problem(res, *error);
+        else
             send_problem(res, problem(503, "cancelled", "Cancelled", "the job was cancelled (the server is shutting down)"));
-        }
     });
 
     // POST /v1/jobs: queue.

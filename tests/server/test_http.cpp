@@ -363,3 +363,53 @@ TEST(Http, TimeoutFailsTheJobWithAProblem) {
     EXPECT_EQ(r->status, 422);
     EXPECT_EQ(json::parse(r->body)["type"], "/v1/problems/timeout");
 }
+
+namespace {
+
+// The value of a gauge without labels in /metrics, or -1.
+double gauge(httplib::Client& c, const std::string& name) {
+    auto m = c.Get("/metrics");
+    if (!m || m->status != 200) return -1;
+    const auto p = m->body.find("\n" + name + " ");
+    return p == std::string::npos ? -1 : std::stod(m->body.substr(p + name.size() + 2));
+}
+
+}  // namespace
+
+// A synchronous request's job is dropped once its answer is taken: it used to stay for the
+// TTL and push asynchronous results out of the memory budget.
+TEST(Http, SyncMeshesLeaveNoJobRecordBehind) {
+    ServerProcess s({});
+    auto c = client(s);
+    for (int i = 0; i < 3; ++i) {
+        auto r = c.Post("/v1/meshes", naca_request(), "application/json");
+        ASSERT_TRUE(r);
+        ASSERT_EQ(r->status, 200);
+    }
+    EXPECT_EQ(gauge(c, "meshd_jobs_kept"), 0);
+    auto r = c.Post("/v1/jobs", naca_request(), "application/json");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 202);
+    ASSERT_EQ(wait_for_job(c, json::parse(r->body)["id"])["status"], "succeeded");
+    EXPECT_EQ(gauge(c, "meshd_jobs_kept"), 1);
+}
+
+// Finished job records are bounded (--max-finished-jobs): the oldest are forgotten first.
+TEST(Http, FinishedJobRecordsAreBounded) {
+    ServerProcess s({"--max-finished-jobs", "2"});
+    auto c = client(s);
+    std::vector<std::string> ids;
+    for (int i = 0; i < 4; ++i) {
+        auto r = c.Post("/v1/jobs", naca_request(), "application/json");
+        ASSERT_TRUE(r);
+        ASSERT_EQ(r->status, 202);
+        ids.push_back(json::parse(r->body)["id"]);
+        ASSERT_EQ(wait_for_job(c, ids.back())["status"], "succeeded");
+    }
+    for (size_t i = 0; i < ids.size(); ++i) {
+        auto r = c.Get(("/v1/jobs/" + ids[i]).c_str());
+        ASSERT_TRUE(r);
+        EXPECT_EQ(r->status, i < 2 ? 404 : 200) << "job " << i;
+    }
+    EXPECT_EQ(gauge(c, "meshd_jobs_kept"), 2);
+}

@@ -19,6 +19,7 @@ struct Config {
     double job_timeout_s = 300;           ///< --job-timeout-s, MESHD_JOB_TIMEOUT_S: wall time per job
     double job_ttl_s = 900;               ///< --job-ttl-s, MESHD_JOB_TTL_S: finished jobs kept this long
     size_t result_memory_bytes = 1u << 30;///< --result-memory-mb, MESHD_RESULT_MEMORY_MB
+    size_t max_finished_jobs = 10000;     ///< --max-finished-jobs, MESHD_MAX_FINISHED_JOBS: records kept, oldest dropped first
     double drain_s = 30;                  ///< --drain-s, MESHD_DRAIN_S: grace on SIGTERM
     std::string log_level = "info";       ///< --log-level, MESHD_LOG_LEVEL
     bool log_json = false;                ///< --log-json, MESHD_LOG_JSON=1

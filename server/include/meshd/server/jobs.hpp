@@ -69,6 +69,9 @@ public:
     std::shared_ptr<Job> find(const std::string& id);
     /// Asks the job to stop; false when unknown.
     bool cancel(const std::string& id);
+    /// Drops a finished job's record and its result from the store (a synchronous request's
+    /// job, once its answer is taken: nobody asks for it again).
+    void forget(const std::shared_ptr<Job>& job);
 
     size_t queued() const;
     size_t busy() const;

@@ -28,6 +28,8 @@ public:
     void request(const std::string& route, int status, double seconds);
     void job_finished(const std::string& status, double seconds, std::uint64_t points, std::uint64_t triangles);
     void set_queue(size_t depth, size_t busy);
+    /// Job records held: queued, running and finished ones still answerable.
+    void set_jobs_kept(size_t kept);
 
     std::string render() const;
 
@@ -38,7 +40,7 @@ private:
     std::map<std::string, std::uint64_t> jobs_;
     Histogram job_seconds_{{0.01, 0.05, 0.1, 0.5, 1, 5, 10, 30, 60, 300}};
     std::uint64_t points_ = 0, triangles_ = 0;
-    size_t queue_depth_ = 0, busy_ = 0;
+    size_t queue_depth_ = 0, busy_ = 0, jobs_kept_ = 0;
 };
 
 }  // namespace meshd::server
