@@ -111,6 +111,32 @@ std::optional<api::Format> format_of(const httplib::Request& req, httplib::Respo
     return f;
 }
 
+// The body of a POST, read as it arrives and refused (413) past `limit`. A plain handler gets
+// a chunked body whole, past cpp-httplib's payload limit (which it checks against
+// Content-Length); read through the content reader, chunked bodies are held to it too.
+std::optional<std::string> read_body(const httplib::ContentReader& reader, size_t limit, httplib::Response& res) {
+    std::string body;
+    bool too_large = false;
+    const bool ok = reader([&](const char* data, size_t n) {
+        if (body.size() + n > limit) {
+            too_large = true;
+            return false;
+        }
+        body.append(data, n);
+        return true;
+    });
+    // A Content-Length over the limit fails the read with cpp-httplib's own 413.
+    if (too_large || (!ok && res.status == 413)) {
+        send_problem(res, problem(413, "body-too-large", "Request too large", "the body exceeds the server's limit"));
+        return std::nullopt;
+    }
+    if (!ok) {
+        send_problem(res, problem(400, "bad-request", "Bad request", "the body could not be read"));
+        return std::nullopt;
+    }
+    return body;
+}
+
 bool json_body(const httplib::Request& req, httplib::Response& res) {
     std::string ct = req.get_header_value("Content-Type");
     for (char& c : ct) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -214,10 +240,13 @@ void Service::install() {
     });
 
     // The request of a POST, parsed, or the problem sent.
-    auto parse = [](const httplib::Request& req, httplib::Response& res) -> std::optional<api::MeshRequest> {
+    auto parse = [this](const httplib::Request& req, httplib::Response& res,
+                        const httplib::ContentReader& reader) -> std::optional<api::MeshRequest> {
         if (!json_body(req, res)) return std::nullopt;
+        const std::optional<std::string> body = read_body(reader, config_.max_body_bytes, res);
+        if (!body) return std::nullopt;
         try {
-            return api::parse_request(req.body);
+            return api::parse_request(*body);
         } catch (const api::RequestError& e) {
             send_problem(res, e.problem());
             return std::nullopt;
@@ -236,10 +265,11 @@ void Service::install() {
 
     // POST /v1/meshes: mesh synchronously (through the job queue, so the pool bounds the work).
     add("post", "/v1/meshes");
-    s.Post("/v1/meshes", [this, parse, refuse_busy](const httplib::Request& req, httplib::Response& res) {
+    s.Post("/v1/meshes", [this, parse, refuse_busy](const httplib::Request& req, httplib::Response& res,
+                                                     const httplib::ContentReader& reader) {
         const auto f = format_of(req, res);
         if (!f) return;
-        auto mr = parse(req, res);
+        auto mr = parse(req, res, reader);
         if (!mr) return;
         auto job = jobs_->submit(std::move(*mr));
         if (!job) return refuse_busy(res);
@@ -260,8 +290,9 @@ void Service::install() {
 
     // POST /v1/jobs: queue.
     add("post", "/v1/jobs");
-    s.Post("/v1/jobs", [this, parse, refuse_busy](const httplib::Request& req, httplib::Response& res) {
-        auto mr = parse(req, res);
+    s.Post("/v1/jobs", [this, parse, refuse_busy](const httplib::Request& req, httplib::Response& res,
+                                                   const httplib::ContentReader& reader) {
+        auto mr = parse(req, res, reader);
         if (!mr) return;
         auto job = jobs_->submit(std::move(*mr));
         if (!job) return refuse_busy(res);
