@@ -139,12 +139,7 @@ bool JobManager::cancel(const std::string& id) {
 
 void JobManager::forget(const std::shared_ptr<Job>& job) {
     std::lock_guard<std::mutex> lock(m_);
-    {
-        std::lock_guard<std::mutex> jl(job->m);
-        if (job->result) result_bytes_ -= job->result_bytes;
-        job->result.reset();
-        job->expired = true;
-    }
+    release_result_locked(*job);
     jobs_.erase(job->id);
     // It has just finished: look from the newest end.
     for (auto it = finished_order_.rbegin(); it != finished_order_.rend(); ++it) {
@@ -264,45 +259,31 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
                  error ? " problem=" + error->type : std::string());
 }
 
+void JobManager::release_result_locked(Job& job) {
+    std::lock_guard<std::mutex> jl(job.m);
+    if (job.result) result_bytes_ -= job.result_bytes;
+    job.result.reset();
+    job.expired = true;
+}
+
 void JobManager::housekeeping() {
     const auto now = std::chrono::system_clock::now();
     const auto ttl = std::chrono::duration_cast<std::chrono::system_clock::duration>(std::chrono::duration<double>(config_.job_ttl_s));
     std::lock_guard<std::mutex> lock(m_);
-    // Results over budget: drop the oldest first.
-    while (result_bytes_ > config_.result_memory_bytes && !finished_order_.empty()) {
-        auto job = finished_order_.front();
-        finished_order_.pop_front();
-        std::lock_guard<std::mutex> jl(job->m);
-        if (job->result) {
-            result_bytes_ -= job->result_bytes;
-            job->result.reset();
-            job->expired = true;
-        }
-    }
-    // Beyond the bound on finished records: forget the oldest.
-    while (finished_order_.size() > config_.max_finished_jobs) {
-        auto job = finished_order_.front();
-        finished_order_.pop_front();
-        std::lock_guard<std::mutex> jl(job->m);
-        if (job->result) result_bytes_ -= job->result_bytes;
-        job->result.reset();
-        job->expired = true;
-        jobs_.erase(job->id);
-    }
-    // Old jobs: forget them.
+    // Results over budget: released oldest first; their records stay, answering "expired".
+    for (auto it = finished_order_.begin(); result_bytes_ > config_.result_memory_bytes && it != finished_order_.end(); ++it)
+        release_result_locked(**it);
+    // Records beyond the bound or past their time: forgotten, oldest first.
     while (!finished_order_.empty()) {
-        auto job = finished_order_.front();
+        const std::shared_ptr<Job> job = finished_order_.front();
         std::chrono::system_clock::time_point fin;
         {
             std::lock_guard<std::mutex> jl(job->m);
             fin = job->finished;
         }
-        if (now - fin < ttl) break;
+        if (finished_order_.size() <= config_.max_finished_jobs && now - fin < ttl) break;
         finished_order_.pop_front();
-        std::lock_guard<std::mutex> jl(job->m);
-        if (job->result) result_bytes_ -= job->result_bytes;
-        job->result.reset();
-        job->expired = true;
+        release_result_locked(*job);
         jobs_.erase(job->id);
     }
     metrics_.set_jobs_kept(jobs_.size());

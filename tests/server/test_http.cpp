@@ -440,3 +440,18 @@ TEST(Http, ChunkedBodiesOverTheLimitAre413) {
     ASSERT_TRUE(good);
     EXPECT_EQ(good->status, 200);
 }
+
+// Jobs whose results were evicted for memory stay answerable ("expired") but still count
+// against the bound on records and still expire: they used to leave the bookkeeping and stay
+// in the job table for good.
+TEST(Http, JobsEvictedForMemoryStillLeaveTheTable) {
+    ServerProcess s({"--result-memory-mb", "1", "--max-finished-jobs", "3"});
+    auto c = client(s);
+    for (int i = 0; i < 6; ++i) {  // each NACA 0012 result holds about 0.3 MB
+        auto r = c.Post("/v1/jobs", naca_request(), "application/json");
+        ASSERT_TRUE(r);
+        ASSERT_EQ(r->status, 202);
+        ASSERT_EQ(wait_for_job(c, json::parse(r->body)["id"])["status"], "succeeded");
+    }
+    EXPECT_EQ(gauge(c, "meshd_jobs_kept"), 3);
+}

@@ -86,6 +86,8 @@ private:
     void work();
     void run(const std::shared_ptr<Job>& job);
     void housekeeping();
+    /// With m_ held: the job's result leaves the store and its memory budget.
+    void release_result_locked(Job& job);
     static std::string new_id();
 
     const Config& config_;
