@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <set>
 
 #include "meshd/api/problem.hpp"
@@ -13,7 +14,80 @@ namespace meshd::api {
 
 namespace {
 
-using json = nlohmann::ordered_json;
+// Objects as ordered maps would make parsing quadratic in the number of names of one object
+// (each insertion scans the object); the order of the named points and curves, which numbers
+// the mesh, is kept by NameOrder below instead.
+using json = nlohmann::json;
+
+// Fed by the parser's events: finds the first member name that occurs twice in one object
+// (RFC 8259 leaves the meaning of such a document open: one of the two would be dropped
+// silently), as the JSON pointer of the second occurrence; and keeps the document order of
+// the names in the objects whose order matters (kOrdered).
+class NameOrder {
+public:
+    static constexpr const char* kOrdered[] = {"/geometry/points", "/geometry/curves", "/density/curves"};
+
+    bool on_event(json::parse_event_t event, const json& parsed) {
+        using E = json::parse_event_t;
+        switch (event) {
+            case E::object_start: stack_.push_back({false, 0, {}, {}, depth_pointer()}); break;
+            case E::array_start: stack_.push_back({true, 0, {}, {}, {}}); break;
+            case E::key: {
+                Frame& f = stack_.back();
+                f.key = parsed.get<std::string>();
+                if (!f.seen.insert(f.key).second && !found_) {
+                    found_ = pointer();
+                    name_ = f.key;
+                }
+                for (const char* o : kOrdered)
+                    if (f.pointer == o) order_[o].push_back(f.key);
+                break;
+            }
+            case E::object_end:
+            case E::array_end:
+                stack_.pop_back();
+                [[fallthrough]];
+            case E::value:
+                if (!stack_.empty() && stack_.back().array) ++stack_.back().index;
+                break;
+        }
+        return true;
+    }
+    /// The pointer of the repeated member, and its name.
+    const std::optional<std::string>& found() const { return found_; }
+    const std::string& name() const { return name_; }
+    /// The names of the object at `pointer` (one of kOrdered) in document order.
+    const std::vector<std::string>& names(const std::string& pointer) const {
+        static const std::vector<std::string> none;
+        const auto it = order_.find(pointer);
+        return it == order_.end() ? none : it->second;
+    }
+
+private:
+    struct Frame {
+        bool array;
+        size_t index;             // arrays: the element being read
+        std::string key;          // objects: the member being read
+        std::set<std::string> seen;
+        std::string pointer;      // objects: where the object is (only as deep as kOrdered)
+    };
+    std::string pointer() const {
+        std::string p;
+        for (const Frame& f : stack_) p += "/" + (f.array ? std::to_string(f.index) : pointer_token(f.key));
+        return p;
+    }
+    // The pointer of an object starting now, when it may be one of kOrdered (two levels down
+    // from the top); "" otherwise.
+    std::string depth_pointer() const {
+        if (stack_.size() != 2 || stack_[0].array || stack_[1].array) return {};
+        return "/" + pointer_token(stack_[0].key) + "/" + pointer_token(stack_[1].key);
+    }
+    std::vector<Frame> stack_;
+    std::optional<std::string> found_;
+    std::string name_;
+    std::map<std::string, std::vector<std::string>> order_;
+};
+
 
 [[noreturn]] void fail(const std::string& pointer, const std::string& detail, const std::string& kind = "invalid-field") {
     throw bad_request(kind, "Invalid request", detail, pointer);
@@ -206,18 +280,20 @@ core::CurveSpec curve(const std::string& name, const json& c, const std::string&
     return cs;
 }
 
-void geometry(const json& g, core::DomainSpec& out) {
+void geometry(const json& g, const NameOrder& order, core::DomainSpec& out) {
     const std::string ptr = "/geometry";
     expect_object(g, ptr, {"points", "curves", "loops", "embedded"});
     if (g.contains("points")) {
         const json& p = g["points"];
         if (!p.is_object()) fail(ptr + "/points", std::string("expected an object of named points, got ") + type_name(p), "wrong-type");
-        for (const auto& [name, v] : p.items()) out.points.push_back({name, point(v, ptr + "/points/" + pointer_token(name))});
+        for (const std::string& name : order.names("/geometry/points"))
+            out.points.push_back({name, point(p.at(name), ptr + "/points/" + pointer_token(name))});
     }
     if (!g.contains("curves")) fail(ptr + "/curves", "geometry needs \"curves\"", "missing-field");
     const json& cs = g["curves"];
     if (!cs.is_object()) fail(ptr + "/curves", std::string("expected an object of named curves, got ") + type_name(cs), "wrong-type");
-    for (const auto& [name, c] : cs.items()) out.curves.push_back(curve(name, c, ptr + "/curves/" + pointer_token(name)));
+    for (const std::string& name : order.names("/geometry/curves"))
+        out.curves.push_back(curve(name, cs.at(name), ptr + "/curves/" + pointer_token(name)));
     if (!g.contains("loops")) fail(ptr + "/loops", "geometry needs \"loops\"", "missing-field");
     const json& ls = g["loops"];
     if (!ls.is_array()) fail(ptr + "/loops", std::string("expected an array of loops, got ") + type_name(ls), "wrong-type");
@@ -240,14 +316,15 @@ void geometry(const json& g, core::DomainSpec& out) {
     }
 }
 
-void density(const json& d, core::DensitySpec& out) {
+void density(const json& d, const NameOrder& order, core::DensitySpec& out) {
     const std::string ptr = "/density";
     expect_object(d, ptr, {"size", "curves", "interior", "gradation", "min", "max"});
     if (d.contains("size")) out.size = scalar(d["size"], ptr + "/size");
     if (d.contains("curves")) {
         const json& c = d["curves"];
         if (!c.is_object()) fail(ptr + "/curves", std::string("expected an object, got ") + type_name(c), "wrong-type");
-        for (const auto& [k, v] : c.items()) out.curves.push_back({k, scalar(v, ptr + "/curves/" + pointer_token(k))});
+        for (const std::string& k : order.names("/density/curves"))
+            out.curves.push_back({k, scalar(c.at(k), ptr + "/curves/" + pointer_token(k))});
     }
     if (d.contains("interior")) {
         const std::string s = string(d["interior"], ptr + "/interior");
@@ -308,56 +385,6 @@ int nesting_depth(std::string_view s) {
     return worst;
 }
 
-// Finds the first member name that occurs twice in one object (RFC 8259 leaves the meaning
-// of such a document open: one of the two would be dropped silently), as the JSON pointer
-// of the second occurrence. Fed by the parser's events.
-class DuplicateNames {
-public:
-    bool on_event(json::parse_event_t event, const json& parsed) {
-        using E = json::parse_event_t;
-        switch (event) {
-            case E::object_start: stack_.push_back({false, 0, {}, {}}); break;
-            case E::array_start: stack_.push_back({true, 0, {}, {}}); break;
-            case E::key: {
-                Frame& f = stack_.back();
-                f.key = parsed.get<std::string>();
-                if (!f.seen.insert(f.key).second && !found_) {
-                    found_ = pointer();
-                    name_ = f.key;
-                }
-                break;
-            }
-            case E::object_end:
-            case E::array_end:
-                stack_.pop_back();
-                [[fallthrough]];
-            case E::value:
-                if (!stack_.empty() && stack_.back().array) ++stack_.back().index;
-                break;
-        }
-        return true;
-    }
-    /// The pointer of the repeated member, and its name.
-    const std::optional<std::string>& found() const { return found_; }
-    const std::string& name() const { return name_; }
-
-private:
-    struct Frame {
-        bool array;
-        size_t index;             // arrays: the element being read
-        std::string key;          // objects: the member being read
-        std::set<std::string> seen;
-    };
-    std::string pointer() const {
-        std::string p;
-        for (const Frame& f : stack_) p += "/" + (f.array ? std::to_string(f.index) : pointer_token(f.key));
-        return p;
-    }
-    std::vector<Frame> stack_;
-    std::optional<std::string> found_;
-    std::string name_;
-};
-
 }  // namespace
 
 MeshRequest parse_request(std::string_view body) {
@@ -365,10 +392,10 @@ MeshRequest parse_request(std::string_view body) {
         throw bad_request("too-deep", "Malformed request",
                           "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels", "");
     json j;
-    DuplicateNames duplicates;
+    NameOrder names;
     try {
         j = json::parse(body.begin(), body.end(), [&](int, json::parse_event_t event, json& parsed) {
-            return duplicates.on_event(event, parsed);
+            return names.on_event(event, parsed);
         });
     } catch (const json::parse_error& e) {
         throw bad_request("malformed-json", "Malformed request",
@@ -377,16 +404,16 @@ MeshRequest parse_request(std::string_view body) {
         throw bad_request("malformed-json", "Malformed request",
                           "the body holds a number beyond the range of a double (about 1.8e308)", "");
     }
-    if (const auto& where = duplicates.found())
+    if (const auto& where = names.found())
         throw bad_request("duplicate-field", "Invalid request",
-                          "the name \"" + duplicates.name() + "\" occurs twice in one object",
+                          "the name \"" + names.name() + "\" occurs twice in one object",
                           *where);
     MeshRequest r;
     expect_object(j, "", {"geometry", "density", "options"});
     if (!j.contains("geometry")) fail("/geometry", "the request needs \"geometry\"", "missing-field");
     if (!j.contains("density")) fail("/density", "the request needs \"density\"", "missing-field");
-    geometry(j["geometry"], r.geometry);
-    density(j["density"], r.density);
+    geometry(j["geometry"], names, r.geometry);
+    density(j["density"], names, r.density);
     if (j.contains("options")) options(j["options"], r);
     return r;
 }

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <unordered_map>
 
 #include "geometry/curve.hpp"
 #include "kernel/crossings.hpp"
@@ -63,6 +64,40 @@ std::optional<std::vector<std::string>> far_coordinate(const CurveShape& shape) 
         },
         shape);
 }
+
+// Points hashed by square cells of one size: every point within that distance of a place is
+// in the 3 x 3 cells around it. Linear in the points for the queries of build_domain, where
+// a sweep along x was quadratic when many points share an x.
+class PointGrid {
+public:
+    PointGrid(Vec2 origin, double cell) : origin_(origin), inv_cell_(1.0 / cell) {}
+
+    void insert(PointId id, Vec2 p) { cells_[key(index(p.x, origin_.x), index(p.y, origin_.y))].push_back(id); }
+
+    template <class F>
+    void near(Vec2 p, F&& visit) const {
+        const std::int64_t x = index(p.x, origin_.x), y = index(p.y, origin_.y);
+        for (std::int64_t dx = -1; dx <= 1; ++dx)
+            for (std::int64_t dy = -1; dy <= 1; ++dy) {
+                const auto it = cells_.find(key(x + dx, y + dy));
+                if (it == cells_.end()) continue;
+                for (const PointId id : it->second) visit(id);
+            }
+    }
+
+private:
+    std::int64_t index(double v, double o) const {
+        return static_cast<std::int64_t>(std::clamp(std::floor((v - o) * inv_cell_), -0x1p61, 0x1p61));
+    }
+    // Distinct cells may share a key far apart (wrapped bits): that only adds candidates.
+    static std::uint64_t key(std::int64_t x, std::int64_t y) {
+        return (static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint64_t>(y);
+    }
+
+    Vec2 origin_;
+    double inv_cell_;
+    std::unordered_map<std::uint64_t, std::vector<PointId>> cells_;
+};
 
 void name_curve(GeometryError& e, const std::string& name) {
     bool named = false;
@@ -186,6 +221,13 @@ Domain build_domain(const DomainSpec& spec) {
         return it->second;
     };
 
+    // The named points by place, for curves whose ends are given by geometry alone: a cell
+    // as large as the largest tolerance of a match (kPointMatch of the largest coordinate).
+    double largest = 1.0;
+    for (const DomainPoint& p : d.points_) largest = std::fmax(largest, std::fmax(std::fabs(p.position.x), std::fabs(p.position.y)));
+    PointGrid named_grid({0.0, 0.0}, tol::kPointMatch * largest);
+    for (PointId id = 0; id < d.points_.size(); ++id) named_grid.insert(id, d.points_[id].position);
+
     // Curves.
     std::map<std::string, TagId> tag_index;
     for (const CurveSpec& cs : spec.curves) {
@@ -242,9 +284,11 @@ Domain build_domain(const DomainSpec& spec) {
         // An unnamed end that sits on a named point (to rounding) is that point.
         auto named_at = [&](Vec2 p) -> std::optional<PointId> {
             const double scale = std::fmax(1.0, std::fmax(std::fabs(p.x), std::fabs(p.y)));
-            for (const auto& [n, id] : point_index)
-                if (distance(d.points_[id].position, p) <= tol::kPointMatch * scale) return id;
-            return std::nullopt;
+            std::optional<PointId> found;
+            named_grid.near(p, [&](PointId id) {
+                if (distance(d.points_[id].position, p) <= tol::kPointMatch * scale && (!found || id < *found)) found = id;
+            });
+            return found;
         };
         if (!from) from = named_at(gs);
         if (!to) to = closed_geom ? from : named_at(ge);
@@ -317,26 +361,21 @@ Domain build_domain(const DomainSpec& spec) {
     }
     // Distinct named points at the same place.
     {
-        std::vector<PointId> order(d.points_.size());
-        std::iota(order.begin(), order.end(), 0);
-        std::sort(order.begin(), order.end(), [&](PointId a, PointId b) {
-            return d.points_[a].position.x < d.points_[b].position.x;
-        });
         const double match = tol::kPointMatch * extent;
-        for (size_t i = 0; i < order.size(); ++i) {
-            for (size_t j = i + 1; j < order.size(); ++j) {
-                const Vec2 a = d.points_[order[i]].position, b = d.points_[order[j]].position;
-                if (b.x - a.x > match) break;
-                if (distance(a, b) <= match) {
-                    const auto& na = d.points_[std::min(order[i], order[j])];
-                    const auto& nb = d.points_[std::max(order[i], order[j])];
-                    if (na.name.empty() || nb.name.empty()) continue;  // ends of self-closed curves
-                    throw GeometryError(K::CoincidentPoints,
-                                        "points " + quoted(na.name) + " and " + quoted(nb.name) +
-                                            " coincide; use one name for both",
-                                        {Subject::point(nb.name), Subject::point(na.name)});
-                }
-            }
+        PointGrid grid(coarse.lo, match);
+        for (PointId j = 0; j < d.points_.size(); ++j) {
+            const Vec2 b = d.points_[j].position;
+            grid.near(b, [&](PointId i) {
+                if (distance(d.points_[i].position, b) > match) return;
+                const auto& na = d.points_[i];
+                const auto& nb = d.points_[j];
+                if (na.name.empty() || nb.name.empty()) return;  // ends of self-closed curves
+                throw GeometryError(K::CoincidentPoints,
+                                    "points " + quoted(na.name) + " and " + quoted(nb.name) +
+                                        " coincide; use one name for both",
+                                    {Subject::point(nb.name), Subject::point(na.name)});
+            });
+            grid.insert(j, b);
         }
     }
 
