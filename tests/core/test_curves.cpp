@@ -159,7 +159,9 @@ TEST(BSpline, ValidationErrors) {
               GeometryErrorKind::NonFinite);
     try {
         make_bspline({{0, 0}, {1, 1}, {2, INFINITY}}, 2, std::nullopt);
+        FAIL() << "no error";
     } catch (const GeometryError& e) {
+        EXPECT_EQ(e.kind(), GeometryErrorKind::NonFinite);
         ASSERT_EQ(e.subjects().size(), 1u);
         EXPECT_EQ(e.subjects()[0].field, (std::vector<std::string>{"control_points", "2"}));
     }

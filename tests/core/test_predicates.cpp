@@ -17,8 +17,8 @@ namespace {
 // are multiples of 2^-53). Uses 128-bit integers.
 __extension__ typedef __int128 Int128;
 
-int exact_sign(Vec2 a, Vec2 b, Vec2 c) {
-    auto to_int = [](double v) { return static_cast<Int128>(std::ldexp(v, 53)); };
+int exact_sign(Vec2 a, Vec2 b, Vec2 c, int shift = 53) {
+    auto to_int = [shift](double v) { return static_cast<Int128>(std::ldexp(v, shift)); };
     const Int128 ax = to_int(a.x), ay = to_int(a.y), bx = to_int(b.x), by = to_int(b.y),
                    cx = to_int(c.x), cy = to_int(c.y);
     // Differences first keeps the products within 128 bits here.
@@ -59,19 +59,35 @@ TEST(Predicates, OrientNearDegenerateGridMatchesExactArithmetic) {
     EXPECT_EQ(checked, 65536);
 }
 
-TEST(Predicates, OrientIsAntisymmetricAndStableUnderRandomNearCollinearInput) {
+// Random points on a grid of step 2^-40 up to about 1000 (exact doubles, and exact 128-bit
+// integers once scaled), the third one on the line through the first two or rounded onto it
+// and nudged by at most a grid step: the sign against the exact one, and its symmetries.
+TEST(Predicates, OrientMatchesExactArithmeticOnRandomNearCollinearInput) {
     std::mt19937_64 rng(12345);
+    std::uniform_int_distribution<std::int64_t> coordinate(-(std::int64_t{1} << 50), std::int64_t{1} << 50);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::uniform_int_distribution<int> nudge(-1, 1);
+    auto on_grid = [](double v) { return std::ldexp(std::round(std::ldexp(v, 40)), -40); };
+    int collinear = 0, left = 0, right = 0;
     for (int k = 0; k < 20000; ++k) {
-        const Vec2 a{u(rng) * 1e3, u(rng) * 1e3}, b{u(rng) * 1e3, u(rng) * 1e3};
-        const double t = u(rng);
-        Vec2 c = a + t * (b - a);  // nearly on the line ab
-        c.x = std::nextafter(c.x, (k & 1) ? 1e9 : -1e9);
+        const Vec2 a{std::ldexp(static_cast<double>(coordinate(rng)), -40), std::ldexp(static_cast<double>(coordinate(rng)), -40)};
+        const Vec2 b{std::ldexp(static_cast<double>(coordinate(rng)), -40), std::ldexp(static_cast<double>(coordinate(rng)), -40)};
+        const Vec2 on_line = a + u(rng) * (b - a);
+        // Every fourth point exactly on the line (a + 2 (b - a) is exact on this grid).
+        const Vec2 c = k % 4 == 0 ? a + 2.0 * (b - a)
+                                  : Vec2{on_grid(on_line.x) + nudge(rng) * std::ldexp(1.0, -40), on_grid(on_line.y)};
+        const int want = exact_sign(a, b, c, 40);
         const auto o1 = static_cast<int>(orient2d(a, b, c));
+        ASSERT_EQ(o1, want) << "k=" << k;
         EXPECT_EQ(static_cast<int>(orient2d(b, a, c)), -o1);
         EXPECT_EQ(static_cast<int>(orient2d(b, c, a)), o1);
         EXPECT_EQ(static_cast<int>(orient2d(c, a, b)), o1);
+        (want == 0 ? collinear : want > 0 ? left : right) += 1;
     }
+    // All three answers occur: a predicate stuck on one of them cannot pass.
+    EXPECT_GT(left, 0);
+    EXPECT_GT(right, 0);
+    EXPECT_GT(collinear, 0);
 }
 
 TEST(Predicates, SegmentsIntersect) {
