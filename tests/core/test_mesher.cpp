@@ -362,7 +362,8 @@ TEST(Mesher, AGradedFieldOverTheLimitIsRefusedDuringSampling) {
 
 // Every stage honours the observer: stopping as soon as a stage has reported progress ends
 // the run with Cancelled inside that stage (the boundary, the interior, the triangulation
-// and the smoothing each poll on their own).
+// and the smoothing each poll on their own; the pipeline announces each stage as it begins,
+// so a stage that never polled would be caught by the next one, which fails here).
 TEST(Mesher, CancellationIsHonouredInEveryStage) {
     const Domain dom = build_domain(unit_square());
     DensitySpec d;

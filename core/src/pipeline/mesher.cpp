@@ -97,7 +97,14 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     }
     r.timings.boundary_ms = ms_since(t0);
 
+    // Each stage is announced as it begins, so that progress (and a stop) is seen in the
+    // right stage.
+    auto begin = [&](Stage stage) {
+        if (observer) observer->on_progress(stage, 0.0);
+    };
+
     // Interior.
+    begin(Stage::Interior);
     t0 = Clock::now();
     std::vector<Vec2> inner = generate_interior_points(domain, d, walls, rho, options.interior, options.max_points,
                                                        observer, &r.stats.interior);
@@ -112,6 +119,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     r.timings.interior_ms = ms_since(t0);
 
     // Triangulation.
+    begin(Stage::Triangulation);
     t0 = Clock::now();
     std::vector<Vec2> pts = std::move(walls.points);
     pts.insert(pts.end(), inner.begin(), inner.end());
@@ -127,6 +135,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     r.timings.triangulation_ms = ms_since(t0);
 
     // Improvement.
+    begin(Stage::Smoothing);
     t0 = Clock::now();
     if (options.smoothing_iterations > 0)
         r.stats.smoothing_moves = smooth(m, options.smoothing_iterations, &r.stats.smoothing_flips, observer);
@@ -135,7 +144,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             refine_min_angle(m, domain, rho, options.min_angle_deg, options.max_points, observer);
     r.timings.smoothing_ms = ms_since(t0);
 
-    if (observer) observer->on_progress(Stage::Quality, 0.0);
+    begin(Stage::Quality);
     r.quality = measure_quality(m, rho);
     m.target_size.resize(m.point_count());
     for (VertexId v = 0; v < m.point_count(); ++v) m.target_size[v] = rho.interior(m.point(v));
