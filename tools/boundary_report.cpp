@@ -64,7 +64,7 @@ void report(const Case& c) {
     const Domain dom = build_domain(c.domain);
     SizeField rho(c.density, dom);
     const Discretisation d = discretise_boundary(dom, rho);
-    const SpacingReport r = spacing_report(dom, rho, d);
+    const SpacingReport r = spacing_report(dom, d);
     std::printf("\n%s: %zu boundary points\n\n", c.title.c_str(), d.size());
     std::printf("| curve | points | mean abs(ratio-1) | max abs(ratio-1) | ratio range |\n");
     std::printf("|---|---:|---:|---:|---|\n");
@@ -113,7 +113,7 @@ void compare_spline_modes() {
             BoundaryOptions opt;
             opt.spline_spacing = mode;
             const Discretisation d = discretise_boundary(dom, rho, opt);
-            const SpacingReport r = spacing_report(dom, rho, d);
+            const SpacingReport r = spacing_report(dom, d);
             const CurveId w = *dom.find_curve("wing");
             const auto& st = r.per_curve[w];
             std::printf("| NACA %s | 2 x %d points, %s | %s | %zu | %.4f | %.4f | %.4f |\n", code, per_side,

@@ -20,15 +20,18 @@ double polygon_area(const Discretisation& d, const std::vector<VertexId>& cycle)
     return a / 2;
 }
 
-// Every segment within `tol` of (rho(A) + rho(B)) / 2 on curves long against rho.
+// Every segment within `tol` of (rho(A) + rho(B)) / 2 on curves long against rho, with rho
+// the curve's density (taken from the field, not from what the discretisation stored; the
+// size cap for curved shapes does not bind on these domains).
 void expect_spacing_law(const Domain& dom, const SizeField& rho, const Discretisation& d, double tol) {
-    const SpacingReport r = spacing_report(dom, rho, d);
-    for (CurveId c = 0; c < dom.curves().size(); ++c) {
-        if (r.per_curve[c].segments == 0) continue;
-        EXPECT_LT(r.per_curve[c].max_abs_error, tol)
-            << dom.curves()[c].name << ": " << r.per_curve[c].segments << " segments, ratios "
-            << r.per_curve[c].min_ratio << " .. " << r.per_curve[c].max_ratio;
+    std::vector<double> worst(dom.curves().size(), 0.0);
+    for (const BoundarySegment& s : d.segments) {
+        const Vec2 a = d.point(s.a), b = d.point(s.b);
+        const double ratio = distance(a, b) / (0.5 * (rho.on_curve(s.curve, a) + rho.on_curve(s.curve, b)));
+        worst[s.curve] = std::fmax(worst[s.curve], std::fabs(ratio - 1.0));
     }
+    for (CurveId c = 0; c < dom.curves().size(); ++c)
+        EXPECT_LT(worst[c], tol) << dom.curves()[c].name;
 }
 
 }  // namespace
@@ -96,7 +99,7 @@ TEST(Boundary, FiveDigitAirfoilAndSplineSpacingModes) {
         BoundaryOptions opt;
         opt.spline_spacing = mode;
         const Discretisation d = discretise_boundary(dom, rho, opt);
-        const SpacingReport r = spacing_report(dom, rho, d);
+        const SpacingReport r = spacing_report(dom, d);
         const auto& wing = r.per_curve[*dom.find_curve("wing")];
         EXPECT_GT(wing.segments, 50u);
         if (mode == SplineSpacing::ArcLength) EXPECT_LT(wing.max_abs_error, 0.05);

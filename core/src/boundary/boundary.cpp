@@ -27,21 +27,13 @@ double shape_cap(const Curve& g, double ta, double tb, double t, double min_size
     return std::fmax(tol::kMaxSegmentTurn * distance(g.point(t0), g.point(t1)) / turn, min_size);
 }
 
-// The curve's size at one of its ends (start or end), as the discretisation used it.
-double end_size(const Curve& g, const SizeField& rho, CurveId c, bool at_start) {
-    const std::vector<double> corners = g.corners();
-    const double ta = at_start ? g.t_begin() : (corners.empty() ? g.t_begin() : corners.back());
-    const double tb = at_start ? (corners.empty() ? g.t_end() : corners.front()) : g.t_end();
-    const double t = at_start ? ta : tb;
-    return std::fmin(rho.on_curve(c, g.point(t)), shape_cap(g, ta, tb, t, rho.min_size()));
-}
-
 // Places the points of one curve after another, sharing the domain points at curve ends.
 class CurveSampler {
 public:
     CurveSampler(const Domain& domain, const SizeField& rho, const BoundaryOptions& opt)
         : domain_(domain), rho_(rho), opt_(opt), domain_vertex_(domain.points().size(), kNoVertex) {
         d_.curve_vertices.resize(domain.curves().size());
+        d_.end_rho.resize(domain.curves().size(), {HUGE_VAL, HUGE_VAL});
     }
 
     VertexId add_vertex(Vec2 p, CurveId c, double t, double size) {
@@ -75,12 +67,13 @@ public:
         auto size_at = [&](double ta, double tb, double t) {
             return std::fmin(rho_.on_curve(c, g.point(t)), shape_cap(g, ta, tb, t, rho_.min_size()));
         };
-        auto end_vertex = [&](PointId p, double ta, double tb, double t) {
+        auto end_vertex = [&](PointId p, double ta, double tb, double t, double& curve_end) {
             const VertexId v = domain_vertex(p);
-            d_.rho[v] = std::fmin(d_.rho[v], size_at(ta, tb, t));
+            curve_end = size_at(ta, tb, t);
+            d_.rho[v] = std::fmin(d_.rho[v], curve_end);
             return v;
         };
-        out.push_back(end_vertex(dc.from, cuts[0], cuts[1], cuts[0]));
+        out.push_back(end_vertex(dc.from, cuts[0], cuts[1], cuts[0], d_.end_rho[c][0]));
         const size_t limit = opt_.max_points ? 4 * opt_.max_points + 64 : size_t{1} << 31;
         for (size_t k = 0; k + 1 < cuts.size(); ++k) {
             const double sa = param->spacing_at(cuts[k]);
@@ -105,7 +98,7 @@ public:
             }
         }
         const size_t last = cuts.size() - 1;
-        out.push_back(end_vertex(dc.to, cuts[last - 1], cuts[last], cuts[last]));
+        out.push_back(end_vertex(dc.to, cuts[last - 1], cuts[last], cuts[last], d_.end_rho[c][1]));
     }
 
     Discretisation finish() && { return std::move(d_); }
@@ -246,18 +239,17 @@ void finalise(SpacingStats& st) {
 
 }  // namespace
 
-SpacingReport spacing_report(const Domain& domain, const SizeField& rho, const Discretisation& d) {
+SpacingReport spacing_report(const Domain& domain, const Discretisation& d) {
     SpacingReport r;
     r.per_curve.resize(domain.curves().size());
     // The size a point was placed for: its own (capped to keep the curve's shape, see
-    // shape_cap), or at a curve end the segment's curve's density there.
-    // At a curve end, the end next to the segment's other point (both ends are one point on
-    // a closed curve).
+    // shape_cap), or at a curve end the one of the segment's curve at that end (the end next
+    // to the segment's other point: both ends are one point on a closed curve).
     auto size = [&](VertexId v, VertexId other, CurveId c) {
         if (d.curve[v] == c) return d.rho[v];
         const std::vector<VertexId>& on_curve = d.curve_vertices[c];
         const bool at_start = v == on_curve.front() && other == on_curve[1];
-        return end_size(*domain.curves()[c].geometry, rho, c, at_start);
+        return d.end_rho[c][at_start ? 0 : 1];
     };
     for (const auto& s : d.segments) {
         const Vec2 a = d.point(s.a), b = d.point(s.b);

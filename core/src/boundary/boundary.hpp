@@ -9,6 +9,7 @@
 /// of the domain. Loops are closed polygons with the domain on their left; embedded curves
 /// are polylines.
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct Discretisation {
     /// the curves meeting there.
     std::vector<double> rho;
 
+    /// Per domain curve, the sizes it placed its start and its end for (a curve end's `rho`
+    /// is the smallest of the curves meeting there).
+    std::vector<std::array<double, 2>> end_rho;
     /// Per domain curve, its vertices from start to end (empty for unused curves).
     std::vector<std::vector<VertexId>> curve_vertices;
     /// Loops in Domain::loops() order, each a cycle of vertices (the first not repeated).
@@ -92,6 +96,6 @@ struct SpacingReport {
     std::vector<SpacingStats> per_curve;
     SpacingStats overall;
 };
-SpacingReport spacing_report(const Domain& domain, const SizeField& rho, const Discretisation& d);
+SpacingReport spacing_report(const Domain& domain, const Discretisation& d);
 
 }  // namespace meshd::core
