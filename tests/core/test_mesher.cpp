@@ -204,21 +204,6 @@ TEST(Mesher, PointLimitRefusesBeforeTheWorkIsDone) {
     EXPECT_THROW(generate_mesh(dom, d, o), GeometryError);
 }
 
-TEST(Mesher, PointEstimateIsCloseToTheCount) {
-    for (const Case& c : {naca("0012"), three_element(), plate_with_holes(), annulus()}) {
-        const Domain dom = build_domain(c.domain);
-        SizeField rho(c.density, dom);
-        const Discretisation d = discretise_boundary(dom, rho);
-        if (rho.interpolates()) set_interpolation_sources(rho, d);
-        const double est = estimate_point_count(d, triangulate_boundary(d), rho);
-        const MeshResult r = generate_mesh(dom, c.density);
-        const double n = static_cast<double>(r.mesh.point_count());
-        EXPECT_GT(est, 0.85 * n) << c.name;
-        EXPECT_LT(est, 1.15 * n) << c.name;
-        std::printf("[ %s ] estimate %.0f, points %.0f\n", c.name.c_str(), est, n);
-    }
-}
-
 TEST(Mesher, GradationLimitsHowFastSizesGrow) {
     // A density that jumps from 0.005 to 0.2 across x = 0.5.
     const Domain dom = build_domain(unit_square());

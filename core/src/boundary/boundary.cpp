@@ -74,7 +74,7 @@ public:
             return v;
         };
         out.push_back(end_vertex(dc.from, cuts[0], cuts[1], cuts[0], d_.end_rho[c][0]));
-        const size_t limit = opt_.max_points ? 4 * opt_.max_points + 64 : size_t{1} << 31;
+
         for (size_t k = 0; k + 1 < cuts.size(); ++k) {
             const double sa = param->spacing_at(cuts[k]);
             const double sb = k + 2 == cuts.size() ? param->length() : param->spacing_at(cuts[k + 1]);
@@ -83,8 +83,10 @@ public:
                 const DensityProfile profile = sample_density(
                     len,
                     [&](double s) { return size_at(cuts[k], cuts[k + 1], param->param_at(sa + s)); },
-                    rho_.min_size(), limit);
-                const std::vector<double> stations = graded_stations(profile);
+                    rho_.min_size(), stations_left_);
+                stations_left_ -= profile.s.size();
+                const std::vector<double> stations =
+                    graded_stations(profile, opt_.max_points ? opt_.max_points : SIZE_MAX);
                 for (size_t i = 1; i + 1 < stations.size(); ++i) {
                     const double t = param->param_at(sa + stations[i]);
                     out.push_back(add_vertex(g.point(t), c, t, size_at(cuts[k], cuts[k + 1], t)));
@@ -110,6 +112,9 @@ private:
     const BoundaryOptions& opt_;
     std::vector<VertexId> domain_vertex_;
     Discretisation d_;
+    // Samples of rho all curves together may still take: about four per point allowed, so
+    // that a density asking for too many points costs about as much as the largest mesh.
+    size_t stations_left_ = opt_.max_points ? 4 * opt_.max_points + 64 : size_t{1} << 31;
 };
 
 }  // namespace

@@ -45,7 +45,7 @@ DensityProfile sample_density(double length, const std::function<double(double)>
         if (out.s.size() > max_stations)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
                                 "the density asks for more than " + std::to_string(max_stations) +
-                                    " samples along one curve");
+                                    " samples along the curves");
     }
     return out;
 }
@@ -109,11 +109,15 @@ size_t march(const DensityProfile& prof, double lambda, size_t steps, std::vecto
 
 }  // namespace
 
-std::vector<double> graded_stations(const DensityProfile& prof) {
+std::vector<double> graded_stations(const DensityProfile& prof, size_t max_segments) {
     const double total = prof.s.back();
     // Unscaled march: the last point x_k before M and the next one beyond it.
     double last = 0.0, next = 0.0;
     const size_t k = march(prof, 1.0, 0, nullptr, last, next);
+    if (k > max_segments)
+        throw GeometryError(GeometryErrorKind::TooManyPoints,
+                            "the density asks for more than " + std::to_string(max_segments) +
+                                " points along one curve");
     // n segments: k when stretching x_k onto M is the smaller change, k + 1 when shrinking
     // the next point onto M is (3.21-3.22 distribute the leftover this way).
     size_t n = k + 1;

@@ -15,6 +15,7 @@
 /// marches, linear in m plus the number of points.
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -30,7 +31,8 @@ struct DensityProfile {
 DensityProfile sample_density(double length, const std::function<double(double)>& rho,
                               double min_size, size_t max_stations);
 
-/// The graded points of the profile: 0 = x_0 < x_1 < ... < x_n = M, n >= 1.
-std::vector<double> graded_stations(const DensityProfile& profile);
+/// The graded points of the profile: 0 = x_0 < x_1 < ... < x_n = M, n >= 1. Throws
+/// GeometryError(TooManyPoints) when n would exceed max_segments, after one march.
+std::vector<double> graded_stations(const DensityProfile& profile, size_t max_segments = SIZE_MAX);
 
 }  // namespace meshd::core

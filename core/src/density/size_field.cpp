@@ -145,8 +145,8 @@ void SizeField::set_gradation_sources(std::vector<Vec2> points, std::vector<doub
     graded_ = std::make_unique<GradationField>(std::move(points), std::move(sizes), *gradation_);
 }
 
-void SizeField::set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths) {
-    idw_ = std::make_unique<InverseDistanceField>(std::move(starts), std::move(lengths));
+void SizeField::set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths, double tolerance) {
+    idw_ = std::make_unique<InverseDistanceField>(std::move(starts), std::move(lengths), tolerance);
 }
 
 }  // namespace meshd::core

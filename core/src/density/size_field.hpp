@@ -32,8 +32,9 @@ public:
     double interior(Vec2 p) const;
 
     bool interpolates() const { return interpolate_; }
-    /// Sources of eq. 6.1: the start A_i of each boundary segment and its length rho_i.
-    void set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths);
+    /// Sources of eq. 6.1: the start A_i of each boundary segment and its length rho_i; the
+    /// field's relative error bound (inverse_distance.hpp).
+    void set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths, double tolerance = 1e-3);
 
     /// Limits the field (on curves and inside) to the gradation envelope over these samples
     /// (gradation.hpp).

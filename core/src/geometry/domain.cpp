@@ -547,6 +547,7 @@ Domain build_domain(const DomainSpec& spec) {
             std::reverse(l.items.begin(), l.items.end());
             for (CurveUse& u : l.items) u.reversed = !u.reversed;
             l.area = -l.area;
+            std::reverse(rings[li].begin(), rings[li].end());
         }
     }
     // Embedded curves inside the domain: probe a flattened point away from the ends.
@@ -564,10 +565,14 @@ Domain build_domain(const DomainSpec& spec) {
                                  Subject::curve(d.curves_[d.embedded_[ei]].name)});
     }
 
-    d.loops_.push_back(std::move(loops[outer]));
-    for (size_t li = 0; li < loops.size(); ++li)
-        if (li != outer) d.loops_.push_back(std::move(loops[li]));
     for (const auto& r : rings) d.box_.add(box_of(r));
+    d.loops_.push_back(std::move(loops[outer]));
+    d.outlines_.push_back(std::move(rings[outer]));
+    for (size_t li = 0; li < loops.size(); ++li) {
+        if (li == outer) continue;
+        d.loops_.push_back(std::move(loops[li]));
+        d.outlines_.push_back(std::move(rings[li]));
+    }
     for (CurveId c : d.embedded_) d.box_.add(box_of(flat[c]));
     return d;
 }

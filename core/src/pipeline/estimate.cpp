@@ -7,6 +7,7 @@
 // as soon as it passes the limit, so refusing a request that is far too large costs little.
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "pipeline/estimate.hpp"
@@ -18,9 +19,12 @@ namespace meshd::core {
 namespace {
 
 // Visits samples (place, rho) of the domain at about the local size: the leaves of the
-// bisection described above. f returns false to stop.
+// bisection described above. f returns false to stop. Bisection keeps the smallest angle
+// within half of the triangle's own, so a sliver's leaves stay slivers, each worth a small
+// fraction of a point: the visits stop after max_visits, whatever the count then.
 template <class F>
-void for_each_sample(const BoundaryTriangulation& walls, const SizeField& rho, Observer* observer, F&& f) {
+void for_each_sample(const BoundaryTriangulation& walls, const SizeField& rho, Observer* observer,
+                     double max_visits, F&& f) {
     const std::vector<Vec2>& pts = walls.points;
     std::uint64_t visited = 0;
     struct Tri { Vec2 a, b, c; int depth; };
@@ -35,6 +39,7 @@ void for_each_sample(const BoundaryTriangulation& walls, const SizeField& rho, O
             const double area = 0.5 * std::fabs(cross(x.b - x.a, x.c - x.a));
             const double longest = std::fmax(distance(x.a, x.b), std::fmax(distance(x.b, x.c), distance(x.c, x.a)));
             if ((++visited & 0xffff) == 0 && observer && observer->should_stop()) throw Cancelled();
+            if (static_cast<double>(visited) > max_visits) return;
             if (longest > 2.0 * r && x.depth < 100) {
                 // Bisect across the longest edge: rotate so that it is a-b.
                 Vec2 a = x.a, b = x.b, c = x.c;
@@ -50,16 +55,16 @@ void for_each_sample(const BoundaryTriangulation& walls, const SizeField& rho, O
     }
 }
 
-}  // namespace
+// Samples a count up to `limit` may take: a few per point on the triangulations of boundaries
+// with fair angles.
+double max_visits(double limit) { return 16.0 * limit + 65536.0; }
 
-// Points per rho^2 of area: 2 / sqrt(3) for a perfect equilateral mesh; the advancing front
-// with its default proximity places about 14% fewer (measured on the mesher test cases).
-const double kPointsPerArea = 0.86 * 2.0 / std::sqrt(3.0);
+}  // namespace
 
 double estimate_point_count(const Discretisation& d, const BoundaryTriangulation& walls, const SizeField& rho,
                             double limit, Observer* observer) {
     double total = static_cast<double>(d.size());
-    for_each_sample(walls, rho, observer, [&](Vec2, double r, double area) {
+    for_each_sample(walls, rho, observer, max_visits(limit), [&](Vec2, double r, double area) {
         total += kPointsPerArea * area / (r * r);
         return total <= limit;
     });
@@ -67,9 +72,16 @@ double estimate_point_count(const Discretisation& d, const BoundaryTriangulation
 }
 
 void refuse_too_many(double estimate, size_t limit) {
+    // Whole numbers up to 10^15; beyond, and for an overflow to infinity, a power of ten.
+    std::string about;
+    if (estimate < 1e15) {
+        about = "about " + std::to_string(static_cast<long long>(estimate));
+    } else {
+        const double e = std::isfinite(estimate) ? std::floor(std::log10(estimate)) : 308.0;
+        about = "more than 10^" + std::to_string(static_cast<int>(e));
+    }
     throw GeometryError(GeometryErrorKind::TooManyPoints,
-                        "the mesh would have about " + std::to_string(static_cast<long long>(estimate)) +
-                            " points or more, above the limit of " + std::to_string(limit));
+                        "the mesh would have " + about + " points, above the limit of " + std::to_string(limit));
 }
 
 void set_gradation_sources(SizeField& rho, const Discretisation& d, const BoundaryTriangulation& walls,
@@ -81,7 +93,7 @@ void set_gradation_sources(SizeField& rho, const Discretisation& d, const Bounda
     std::vector<double> sizes = d.rho;
     double total = static_cast<double>(d.size());
     const double limit = static_cast<double>(max_points);
-    for_each_sample(walls, rho, observer, [&](Vec2 g, double r, double area) {
+    for_each_sample(walls, rho, observer, max_visits(limit), [&](Vec2 g, double r, double area) {
         pts.push_back(g);
         sizes.push_back(r);
         total += kPointsPerArea * area / (r * r);

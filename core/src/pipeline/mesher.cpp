@@ -72,8 +72,16 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     reset_predicate_counters();
     const auto t_start = Clock::now();
 
-    // Boundary.
+    // Admission: a mesh forecast above the limit is refused before any work that grows with it.
     auto t0 = Clock::now();
+    {
+        const PointForecast forecast = forecast_points(domain, density, {}, observer);
+        r.stats.forecast_points = forecast.total();
+        if (forecast.total() > static_cast<double>(options.max_points))
+            refuse_too_many(forecast.total(), options.max_points);
+    }
+
+    // Boundary.
     SizeField rho(density, domain);
     BoundaryOptions bopt;
     bopt.spline_spacing = options.spline_spacing;

@@ -143,6 +143,10 @@ public:
     /// The outer loop first, then the holes in the order given.
     const std::vector<DomainLoop>& loops() const { return loops_; }
     const std::vector<CurveId>& embedded() const { return embedded_; }
+    /// Each loop as a closed polygon (the first point not repeated), in loops() order with the
+    /// domain on its left: the curves flattened to within a small fraction of the extent
+    /// (kFlattenDeviation), from the geometry alone. The polygons do not cross.
+    const std::vector<std::vector<Vec2>>& outlines() const { return outlines_; }
     const std::vector<std::string>& tags() const { return tags_; }
     /// Bounding box of all used curves.
     const Box& box() const { return box_; }
@@ -156,6 +160,7 @@ private:
     std::vector<DomainCurve> curves_;
     std::vector<DomainLoop> loops_;
     std::vector<CurveId> embedded_;
+    std::vector<std::vector<Vec2>> outlines_;
     std::vector<std::string> tags_;
     std::map<std::string, CurveId> curve_index_;
     Box box_;

@@ -81,6 +81,8 @@ struct TriangulationStats {
 };
 
 struct MeshStats {
+    /// Points forecast from the domain and density before any work (the admission check).
+    double forecast_points = 0.0;
     InteriorStats interior;
     TriangulationStats triangulation;
     std::uint64_t smoothing_moves = 0, smoothing_flips = 0;
