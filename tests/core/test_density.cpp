@@ -12,6 +12,7 @@
 #include "boundary/boundary.hpp"
 #include "density/size_field.hpp"
 #include "meshd/core/errors.hpp"
+#include "meshd/core/mesher.hpp"
 
 using namespace meshd::core;
 using namespace meshd::test;
@@ -291,4 +292,21 @@ TEST(InverseDistance, TreecodeMeetsItsBoundAgainstTheExactFormula) {
     const double mid = f.interior({0.5, 0.5});
     EXPECT_GT(mid, 0.0);
     EXPECT_NEAR(mid, field.exact({0.5, 0.5}), 1e-3 * mid);
+}
+
+// Found by fuzz/fuzz_request (timeout acae571a): a size of 9e8 on half of a domain 12 wide
+// (a typo in an expression) hung the interior stage, whose searches around a candidate point
+// span cells in proportion to its size. No edge can be longer than the domain: sizes are
+// capped at its extent (the diagonal of its box), whatever density.max says, and the mesh
+// is made at once.
+TEST(SizeField, SizesAreCappedAtTheDomainsExtent) {
+    const Domain dom = build_domain(unit_square());
+    DensitySpec spec;
+    spec.size = std::string("x < 0.5 ? 0.05 : 9e8");
+    spec.max = 1e12;
+    const SizeField rho(spec, dom);
+    EXPECT_DOUBLE_EQ(rho.interior({0.75, 0.5}), std::sqrt(2.0));
+    EXPECT_DOUBLE_EQ(rho.interior({0.25, 0.5}), 0.05);
+    const auto v = check_mesh(generate_mesh(dom, spec).mesh);
+    for (const auto& s : v) ADD_FAILURE() << s;
 }

@@ -171,3 +171,19 @@ TEST(Delaunay, ConstraintThroughACollinearPointIsSplit) {
     m.edges.push_back({6, 5, 0, kNoCurve, true});
     expect_valid(m);
 }
+
+// Found by fuzz/fuzz_triangulation (crash 7914fa2b, minimised): two points 2^-40 apart inside
+// a square. Their front edge is 2^40 times shorter than the square's sides; the advancing
+// front's crossing test skipped size classes that much finer than the segment it tested (and
+// counted their cells in overflowing integers), so it either hung or found no point for a
+// front edge. Both triangulators must give the same valid triangulation.
+TEST(Triangulators, FuzzNearlyCoincidentPairInASquare) {
+    const std::vector<Vec2> pts = {{-1, -1}, {16, -1}, {16, 16}, {-1, 16}, {15, 12}, {15 + 0x1p-40, 12}};
+    const std::vector<std::vector<std::uint32_t>> loops = {{0, 1, 2, 3}};
+    const std::vector<Constraint> cons = loop_constraints(loops);
+    const TriangulationResult d = triangulate_delaunay(pts, cons);
+    expect_valid(mesh_of(pts, loops, d, cons));
+    const TriangulationResult f = triangulate_advancing_front(pts, cons);
+    expect_valid(mesh_of(pts, loops, f, cons));
+    EXPECT_EQ(canonical(f.triangles), canonical(d.triangles));
+}

@@ -104,6 +104,10 @@ SizeField::SizeField(const DensitySpec& spec, const Domain& domain) {
         throw GeometryError(K::DensityInvalid, "density.max must be positive", {Subject::density("max")});
     if (max_ < min_)
         throw GeometryError(K::DensityInvalid, "density.max is below density.min", {Subject::density("max")});
+    // No edge can be longer than the domain: larger sizes only make the stages' searches
+    // (which scale with the size) astronomically wide.
+    max_ = std::fmin(max_, extent);
+    min_ = std::fmin(min_, max_);
     if (spec.gradation) {
         if (!(std::isfinite(*spec.gradation) && *spec.gradation > 1.0))
             throw GeometryError(K::DensityInvalid, "density.gradation must be a finite number above 1",

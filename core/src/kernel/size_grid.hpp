@@ -85,6 +85,7 @@ public:
         return k < 1 ? 1 : (k > kMax ? kMax : k);
     }
     double cell(int k) const { return cell_[static_cast<size_t>(k)]; }
+    Vec2 origin() const { return origin_; }
     std::int64_t index(double v, double o, int k) const {
         return static_cast<std::int64_t>(std::floor((v - o) * inv_cell_[static_cast<size_t>(k)]));
     }

@@ -94,22 +94,24 @@ private:
     struct FrontEdge {
         std::uint32_t a, b;
         bool alive;
+        int k;  // size class
     };
 
     void add_front(std::uint32_t a, std::uint32_t b) {
         const auto id = static_cast<std::uint32_t>(edges_.size());
-        edges_.push_back({a, b, true});
+        const Vec2 pa = pts_[a], pb = pts_[b];
+        const int k = classes_->class_of(distance(pa, pb));
+        edges_.push_back({a, b, true, k});
         front_[detail::directed_key(a, b)] = id;
         stack_.push_back(id);
         ++front_degree_[a];
         ++front_degree_[b];
         touched_[a] = touched_[b] = 1;
-        const Vec2 pa = pts_[a], pb = pts_[b];
-        const int k = classes_->class_of(distance(pa, pb));
         for (auto x = classes_->ix(std::fmin(pa.x, pb.x), k); x <= classes_->ix(std::fmax(pa.x, pb.x), k); ++x)
             for (auto y = classes_->iy(std::fmin(pa.y, pb.y), k); y <= classes_->iy(std::fmax(pa.y, pb.y), k); ++y)
                 grid_.push(SizeClasses::key(k, x, y), id);
-        used_classes_[static_cast<size_t>(k)] = true;
+        class_edges_[static_cast<size_t>(k)].push_back(id);
+        ++class_alive_[static_cast<size_t>(k)];
     }
 
     void remove_front(std::uint32_t id) {
@@ -118,33 +120,70 @@ private:
         front_.erase(detail::directed_key(e.a, e.b));
         --front_degree_[e.a];
         --front_degree_[e.b];
+        const auto k = static_cast<size_t>(e.k);
+        --class_alive_[k];
+        // Keep each class's list about as long as its live edges.
+        std::vector<std::uint32_t>& list = class_edges_[k];
+        if (list.size() > 2 * class_alive_[k] + 32)
+            std::erase_if(list, [&](std::uint32_t i) { return !edges_[i].alive; });
     }
 
     bool alive_point(std::uint32_t v) const { return !touched_[v] || front_degree_[v] > 0; }
 
-    // Does segment p-q cross a live front edge (other than at shared ends)?
+    bool crosses(std::uint32_t p, std::uint32_t q, std::uint32_t id) const {
+        const FrontEdge& f = edges_[id];
+        if (!f.alive || f.a == p || f.b == p || f.a == q || f.b == q) return false;
+        return segments_intersect(pts_[p], pts_[q], pts_[f.a], pts_[f.b]);
+    }
+
+    bool cell_blocks(std::uint32_t p, std::uint32_t q, int k, std::int64_t x, std::int64_t y) const {
+        for (auto e = grid_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = grid_.next(e))
+            if (crosses(p, q, grid_.item(e))) return true;
+        return false;
+    }
+
+    // Does segment p-q cross a live front edge (other than at shared ends)? In each size class
+    // an edge crossing p-q is listed in a cell p-q passes through (its box holds the crossing
+    // point), so either those cells are searched, one column (or row) at a time, or, when the
+    // class has fewer live edges than that walk has cells (an edge far smaller than p-q), the
+    // class's own list.
     bool blocked(std::uint32_t p, std::uint32_t q) const {
         const Vec2 pp = pts_[p], pq = pts_[q];
-        const double len = distance(pp, pq);
-        const int k0 = classes_->class_of(len);
         for (int k = 1; k <= SizeClasses::kMax; ++k) {
-            if (!used_classes_[static_cast<size_t>(k)]) continue;
-            // Grids of edges no smaller than about p-q: its box covers few cells there. Edges
-            // much smaller than p-q are found by scanning the cells of their own class.
-            const auto x0 = classes_->ix(std::fmin(pp.x, pq.x), k), x1 = classes_->ix(std::fmax(pp.x, pq.x), k);
-            const auto y0 = classes_->iy(std::fmin(pp.y, pq.y), k), y1 = classes_->iy(std::fmax(pp.y, pq.y), k);
-            if (k > k0 + 3) {
-                // Many small cells: only worth it if the segment is short in them.
-                if ((x1 - x0 + 1) * (y1 - y0 + 1) > 64) continue;
+            const auto kk = static_cast<size_t>(k);
+            if (class_alive_[kk] == 0) continue;
+            const std::int64_t x0 = classes_->ix(std::fmin(pp.x, pq.x), k), x1 = classes_->ix(std::fmax(pp.x, pq.x), k);
+            const std::int64_t y0 = classes_->iy(std::fmin(pp.y, pq.y), k), y1 = classes_->iy(std::fmax(pp.y, pq.y), k);
+            const double cols = static_cast<double>(x1) - static_cast<double>(x0) + 1.0;
+            const double rows = static_cast<double>(y1) - static_cast<double>(y0) + 1.0;
+            if (4.0 * std::fmin(cols, rows) + std::fmax(cols, rows) >= static_cast<double>(class_edges_[kk].size())) {
+                for (std::uint32_t id : class_edges_[kk])
+                    if (crosses(p, q, id)) return true;
+                continue;
             }
-            for (auto x = x0; x <= x1; ++x)
-                for (auto y = y0; y <= y1; ++y)
-                    for (auto e = grid_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = grid_.next(e)) {
-                        const FrontEdge& f = edges_[grid_.item(e)];
-                        if (!f.alive) continue;
-                        if (f.a == p || f.b == p || f.a == q || f.b == q) continue;
-                        if (segments_intersect(pp, pq, pts_[f.a], pts_[f.b])) return true;
-                    }
+            // Walk along the longer direction; in each column (row) the segment covers a range
+            // of rows (columns), widened by one for rounding.
+            const bool by_x = cols >= rows;
+            const Vec2 a = by_x ? (pp.x <= pq.x ? pp : pq) : (pp.y <= pq.y ? pp : pq);
+            const Vec2 b = by_x ? (pp.x <= pq.x ? pq : pp) : (pp.y <= pq.y ? pq : pp);
+            const double c = classes_->cell(k);
+            const std::int64_t i0 = by_x ? x0 : y0, i1 = by_x ? x1 : y1;
+            for (std::int64_t i = i0; i <= i1; ++i) {
+                // The part of a-b over the slab of column i.
+                const double lo_edge = (by_x ? classes_->origin().x : classes_->origin().y) + static_cast<double>(i) * c;
+                const double s_a = by_x ? a.x : a.y, s_b = by_x ? b.x : b.y;
+                const double u0 = std::fmax(s_a, lo_edge), u1 = std::fmin(s_b, lo_edge + c);
+                auto across = [&](double u) {
+                    if (s_b == s_a) return by_x ? a.y : a.x;
+                    const double t = std::clamp((u - s_a) / (s_b - s_a), 0.0, 1.0);
+                    return by_x ? a.y + t * (b.y - a.y) : a.x + t * (b.x - a.x);
+                };
+                const double v0 = across(u0), v1 = across(u1);
+                const std::int64_t j0 = (by_x ? classes_->iy(std::fmin(v0, v1), k) : classes_->ix(std::fmin(v0, v1), k)) - 1;
+                const std::int64_t j1 = (by_x ? classes_->iy(std::fmax(v0, v1), k) : classes_->ix(std::fmax(v0, v1), k)) + 1;
+                for (std::int64_t j = j0; j <= j1; ++j)
+                    if (by_x ? cell_blocks(p, q, k, i, j) : cell_blocks(p, q, k, j, i)) return true;
+            }
         }
         return false;
     }
@@ -244,7 +283,8 @@ private:
     std::unordered_map<std::uint64_t, std::uint32_t> front_;
     std::vector<std::uint32_t> stack_;
     CellMap grid_;
-    std::array<bool, SizeClasses::kMax + 1> used_classes_{};
+    std::array<std::vector<std::uint32_t>, SizeClasses::kMax + 1> class_edges_;  // live and some dead
+    std::array<size_t, SizeClasses::kMax + 1> class_alive_{};
     std::vector<Triangle> tris_;
     std::vector<std::uint32_t> cand_;
 };
