@@ -14,7 +14,7 @@ case "$mode" in
     ;;
   sanitize)
     dir=build-sanitize
-    args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHD_WERROR=ON -DMESHD_SANITIZE=address,undefined
+    args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHD_WERROR=ON -DMESHD_SANITIZE=address,undefined,float-cast-overflow
           -DMESHD_BUILD_BENCH=OFF)
     ;;
   *)

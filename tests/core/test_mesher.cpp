@@ -368,3 +368,24 @@ TEST(Mesher, CancellationIsHonouredInEveryStage) {
         EXPECT_EQ(obs.last, target) << to_string(target);
     }
 }
+
+// Found by fuzz/fuzz_request (crash 41b88212): sizes from 0.007 at the wing to the extent in
+// part of the far field made the interior's candidate points, where two neighbouring radii
+// differ by orders of magnitude, land far outside the domain, and the size-class grid
+// converted their cell numbers from doubles out of the range of a 64-bit integer (undefined
+// behaviour: the sanitizer build, with float-cast-overflow, stops on it). Candidates outside
+// the domain's box are rejected before any search; cell numbers saturate.
+TEST(Mesher, FuzzCandidatesFarOutsideTheDomain) {
+    DomainSpec s = naca_in_circle("0012", 16.0);
+    for (auto& p : s.points) p.second = p.second + Vec2{4.0, 0.0};
+    std::get<ArcShape>(s.curves[1].shape).center = {4.5, 0.0};
+    DensitySpec d;
+    d.size = std::string("x < 0.5 ? (x^2+y^2)+0.007 : 0.1*sqrt((x-1.008930411365)^2+y^2)+0.006");
+    const Domain dom = build_domain(s);
+    const MeshResult r = generate_mesh(dom, d);
+    expect_valid(r.mesh, "candidates far outside");
+    for (VertexId v = 0; v < r.mesh.point_count(); ++v) {
+        const Vec2 p = r.mesh.point(v);
+        ASSERT_TRUE(p.x >= dom.box().lo.x && p.x <= dom.box().hi.x && p.y >= dom.box().lo.y && p.y <= dom.box().hi.y);
+    }
+}

@@ -33,6 +33,7 @@ public:
                    const SizeField& rho, const InteriorOptions& opt, size_t max_points, Observer* obs,
                    InteriorStats& stats)
         : rho_(rho), opt_(opt), max_points_(max_points), obs_(obs), stats_(stats),
+          box_(domain.box()),
           classes_(domain.box().lo - Vec2{domain.extent(), domain.extent()}, domain.extent()),
           wall_points_(walls.points), wall_triangles_(walls.triangles),
           walls_(wall_points_, wall_triangles_, true) {
@@ -223,6 +224,13 @@ private:
             front_[s].alive = false;
             return;
         }
+        // Outside the domain's box (far outside when the radii are very unequal): no search
+        // should span the plane for it, nor rho be asked there.
+        if (!(c.x >= box_.lo.x && c.x <= box_.hi.x && c.y >= box_.lo.y && c.y <= box_.hi.y)) {
+            ++stats_.rejected_outside;
+            front_[s].alive = false;
+            return;
+        }
         double rc = rho_.interior(c);
         if (opt_.newton) {
             // One step towards the fixed point of (4.4): the radii become the mean sizes of
@@ -230,7 +238,8 @@ private:
             // less than 1e-3 and cost 9% of this stage.)
             Vec2 c2;
             if (candidate(a, b, 0.5 * (ra + rc), 0.5 * (rb + rc), seg.boundary, c2) &&
-                orient2d(a, b, c2) == Orientation::Left) {
+                orient2d(a, b, c2) == Orientation::Left && c2.x >= box_.lo.x && c2.x <= box_.hi.x &&
+                c2.y >= box_.lo.y && c2.y <= box_.hi.y) {
                 c = c2;
                 rc = rho_.interior(c);
             }
@@ -268,6 +277,7 @@ private:
     size_t max_points_;
     Observer* obs_;
     InteriorStats& stats_;
+    Box box_;
     SizeClasses classes_;
     // The constrained triangulation of the boundary, for the walks that decide "inside".
     std::vector<Vec2> wall_points_;

@@ -86,8 +86,14 @@ public:
     }
     double cell(int k) const { return cell_[static_cast<size_t>(k)]; }
     Vec2 origin() const { return origin_; }
+    /// The cell of v; saturated at +-2^62 (and 0 for NaN), so that no value converts out of
+    /// range. Callers keep their queries inside the grid's extent.
     std::int64_t index(double v, double o, int k) const {
-        return static_cast<std::int64_t>(std::floor((v - o) * inv_cell_[static_cast<size_t>(k)]));
+        const double f = std::floor((v - o) * inv_cell_[static_cast<size_t>(k)]);
+        constexpr double kLimit = 0x1p62;
+        if (!(f > -kLimit)) return f != f ? 0 : -static_cast<std::int64_t>(kLimit);
+        if (!(f < kLimit)) return static_cast<std::int64_t>(kLimit);
+        return static_cast<std::int64_t>(f);
     }
     std::int64_t ix(double x, int k) const { return index(x, origin_.x, k); }
     std::int64_t iy(double y, int k) const { return index(y, origin_.y, k); }
