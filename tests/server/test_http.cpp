@@ -176,38 +176,47 @@ TEST(Http, NotFinishedThenCancelWhileRunning) {
     ASSERT_TRUE(r);
     ASSERT_EQ(r->status, 202);
     const std::string id = json::parse(r->body)["id"];
-    // Wait until it runs.
-    for (int i = 0; i < 500; ++i) {
+    // Wait until it runs (it is far too large to finish first: some 1.8 million points).
+    bool running = false;
+    for (int i = 0; i < 3000 && !running; ++i) {
         auto st = c.Get(("/v1/jobs/" + id).c_str());
-        if (json::parse(st->body)["status"] == "running") {
+        ASSERT_TRUE(st);
+        const std::string status = json::parse(st->body)["status"];
+        ASSERT_TRUE(status == "queued" || status == "running") << status;
+        if (status == "running") {
             EXPECT_EQ(st->get_header_value("Retry-After"), "1");
-            break;
+            running = true;
+        } else {
+            std::this_thread::yield();
         }
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
+    ASSERT_TRUE(running) << "the job never ran";
     auto early = c.Get(("/v1/jobs/" + id + "/mesh").c_str());
     ASSERT_TRUE(early);
     EXPECT_EQ(early->status, 409);
-    const auto t0 = std::chrono::steady_clock::now();
     auto del = c.Delete(("/v1/jobs/" + id).c_str());
     ASSERT_TRUE(del);
     EXPECT_TRUE(del->status == 200 || del->status == 202);
-    const json end = wait_for_job(c, id, 5);
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // How promptly each stage stops is the core's test (Mesher.CancellationIsHonouredInEveryStage).
+    const json end = wait_for_job(c, id, 60);
     EXPECT_EQ(end["status"], "cancelled");
-    EXPECT_LT(secs, 1.0);
     auto gone = c.Get(("/v1/jobs/" + id + "/mesh").c_str());
     ASSERT_TRUE(gone);
     EXPECT_EQ(gone->status, 410);
 }
 
+// A finished job past its time is forgotten. With a time of zero every finished job is past
+// it, so no clock needs to advance: once the job is no longer queued or running, its mesh is
+// gone.
 TEST(Http, FinishedJobsExpire) {
-    ServerProcess s({"--job-ttl-s", "0.5"});
+    ServerProcess s({"--job-ttl-s", "0"});
     auto c = client(s);
     auto r = c.Post("/v1/jobs", naca_request(), "application/json");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 202);
     const std::string id = json::parse(r->body)["id"];
-    ASSERT_EQ(wait_for_job(c, id)["status"], "succeeded");
-    std::this_thread::sleep_for(std::chrono::milliseconds(900));
+    const json end = wait_for_job(c, id);
+    EXPECT_TRUE(end["status"] == "http-404" || end["status"] == "succeeded") << end.dump();
     auto later = c.Get(("/v1/jobs/" + id + "/mesh").c_str());
     ASSERT_TRUE(later);
     EXPECT_TRUE(later->status == 404 || later->status == 410) << later->status;
@@ -254,18 +263,28 @@ TEST(Http, SigtermDrainsAndExitsZero) {
     auto r = c.Post("/v1/jobs", slow_request(0.002), "application/json");
     ASSERT_EQ(r->status, 202);
     const std::string id = json::parse(r->body)["id"];
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    bool running = false;
+    for (int i = 0; i < 3000 && !running; ++i) {
+        auto st = c.Get(("/v1/jobs/" + id).c_str());
+        ASSERT_TRUE(st);
+        running = json::parse(st->body)["status"] == "running";
+        if (!running) std::this_thread::yield();
+    }
+    ASSERT_TRUE(running) << "the job never ran";
     s.signal(SIGTERM);
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    // Draining: not ready, no new jobs; the running one continues.
-    auto ready = c.Get("/readyz");
-    if (ready) {
-        EXPECT_EQ(ready->status, 503);
+    // Draining: not ready, no new jobs; the running one continues. The signal is handled
+    // asynchronously: wait for readiness to turn (the job runs for seconds more).
+    bool draining = false;
+    for (int i = 0; i < 3000 && !draining; ++i) {
+        auto ready = c.Get("/readyz");
+        ASSERT_TRUE(ready);
+        draining = ready->status == 503;
+        if (!draining) std::this_thread::yield();
     }
+    ASSERT_TRUE(draining) << "readiness never turned";
     auto refused = c.Post("/v1/jobs", naca_request(), "application/json");
-    if (refused) {
-        EXPECT_EQ(refused->status, 503);
-    }
+    ASSERT_TRUE(refused);
+    EXPECT_EQ(refused->status, 503);
     EXPECT_EQ(s.wait(std::chrono::seconds(60)), 0);
     const std::string log = s.log();
     EXPECT_NE(log.find("job " + id + " succeeded"), std::string::npos) << log;
