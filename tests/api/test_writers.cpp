@@ -195,3 +195,31 @@ TEST(Writers, TagsAreEscapedInSvgAndKeptWholeInMshAndSu2) {
     EXPECT_NE(text(api::Format::Msh).find("\"" + tag + "\"\n"), std::string::npos);
     EXPECT_NE(text(api::Format::Su2).find("MARKER_TAG= " + tag + "\n"), std::string::npos);
 }
+
+// SU2 marker names end at white space, so spaces are written as '_'. "far field" and
+// "far_field" are two boundary conditions: they must stay two markers, the later renamed.
+TEST(Writers, Su2KeepsTagsApartThatReadAlikeWithUnderscores) {
+    const api::MeshRequest req = api::parse_request(
+        nlohmann::json{{"geometry",
+                        {{"points", {{"A", {0, 0}}, {"B", {1, 0}}, {"C", {1, 1}}, {"D", {0, 1}}}},
+                         {"curves",
+                          {{"bottom", {{"type", "line"}, {"from", "A"}, {"to", "B"}, {"tag", "far field"}}},
+                           {"right", {{"type", "line"}, {"from", "B"}, {"to", "C"}, {"tag", "far_field"}}},
+                           {"top", {{"type", "line"}, {"from", "C"}, {"to", "D"}, {"tag", "wall"}}},
+                           {"left", {{"type", "line"}, {"from", "D"}, {"to", "A"}, {"tag", "wall"}}}}},
+                         {"loops", {{"bottom", "right", "top", "left"}}}}},
+                       {"density", {{"size", 0.25}}}}
+            .dump());
+    const core::MeshResult r = core::generate_mesh(req.geometry, req.density, req.options);
+    std::ostringstream os;
+    api::write_mesh(api::Format::Su2, r, os);
+    std::istringstream in(os.str());
+    std::vector<std::string> markers;
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("MARKER_TAG= ", 0) == 0) markers.push_back(line.substr(12));
+    ASSERT_EQ(markers.size(), 3u);
+    std::sort(markers.begin(), markers.end());
+    EXPECT_TRUE(std::adjacent_find(markers.begin(), markers.end()) == markers.end());
+    EXPECT_NE(std::find(markers.begin(), markers.end(), "far_field"), markers.end());
+    EXPECT_NE(std::find(markers.begin(), markers.end(), "far_field_2"), markers.end());
+}

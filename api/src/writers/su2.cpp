@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
+#include <string>
 
 #include "writers/common.hpp"
 
@@ -22,11 +24,16 @@ void write_su2(const MeshResult& r, std::ostream& os) {
     size_t marks = 0;
     for (const auto& g : groups) marks += g.empty() ? 0u : 1u;
     os << "NMARK= " << marks << '\n';
+    // Marker names end at white space: spaces become '_'. Two tags that then read alike ("far
+    // field", "far_field") must stay two markers: the later gets "_2", "_3", ... (docs/api.md).
+    std::set<std::string> written;
     for (size_t g = 0; g < groups.size(); ++g) {
         if (groups[g].empty()) continue;
-        std::string tag = m.tags[g];
-        for (char& c : tag)
+        std::string base = m.tags[g];
+        for (char& c : base)
             if (c == ' ' || c == '\t' || c == '\n' || c == '\r') c = '_';
+        std::string tag = base;
+        for (int k = 2; !written.insert(tag).second; ++k) tag = base + "_" + std::to_string(k);
         os << "MARKER_TAG= " << tag << "\nMARKER_ELEMS= " << groups[g].size() << '\n';
         for (const auto* e : groups[g]) os << "3 " << e->a << ' ' << e->b << '\n';
     }
