@@ -1,5 +1,6 @@
 // Boundary generation and the interior density (eq. 6.1): size sweeps with complexity fits.
 //
+// - BM_SpacingInterval: Lo's spacing on [0, 1] alone, uniform rho, n points.
 // - BM_CircleBoundary: one full circle, uniform rho, n points: the floor cost per point of the
 //   point generator (density samples, march, mapping onto the curve).
 // - BM_AirfoilBoundary: NACA 0012 in a far field with the paper's Fig. 10 density divided by
@@ -15,6 +16,7 @@
 #include <random>
 
 #include "boundary/boundary.hpp"
+#include "boundary/spacing.hpp"
 #include "naca_case.hpp"
 
 using namespace meshd::core;
@@ -50,6 +52,23 @@ void BM_CircleBoundary(benchmark::State& state) {
     SizeField rho(spec, dom);
     discretise_repeatedly(state, dom, rho);
 }
+// Lo's spacing on an interval alone (boundary/spacing.hpp), uniform rho, n points: samples
+// of rho and the march, without a curve.
+void BM_SpacingInterval(benchmark::State& state) {
+    const double h = 1.0 / static_cast<double>(state.range(0));
+    size_t points = 0, calls = 0;
+    for (auto _ : state) {
+        calls = 0;
+        const DensityProfile prof = sample_density(1.0, [&](double) { ++calls; return h; }, 1e-12, size_t{1} << 26);
+        const std::vector<double> x = graded_stations(prof);
+        points = x.size();
+        benchmark::DoNotOptimize(x.data());
+    }
+    state.SetComplexityN(static_cast<int64_t>(points));
+    state.counters["samples_per_point"] = static_cast<double>(calls) / static_cast<double>(points);
+}
+BENCHMARK(BM_SpacingInterval)->RangeMultiplier(10)->Range(1000, 1000000)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
+
 BENCHMARK(BM_CircleBoundary)->RangeMultiplier(10)->Range(1000, 1000000)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
 
 void BM_AirfoilBoundary(benchmark::State& state) {

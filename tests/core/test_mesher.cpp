@@ -151,10 +151,10 @@ TEST_P(MesherCase, ValidMeshBothTriangulatorsAgreeSmoothingKeepsItValid) {
 
 INSTANTIATE_TEST_SUITE_P(Domains, MesherCase, ::testing::Range(0, 7));
 
-// The Core II benchmark case (bench/naca_driver.cpp) at s = 1, with the default options: the
-// issue's quality targets are for s = 0.1 (measured by bench/); at s = 1 (8000 triangles, a
-// larger share of them at the boundary) the mean radius ratio is 0.969, the minimum angle 34
-// degrees after the angle repair.
+// The Core II benchmark case (bench/naca_driver.cpp) at s = 1, with the default options. Of
+// the targets (docs/benchmarks.md), those that hold at every scale are checked here: the
+// smallest angle at least 30 degrees (the angle repair's bound) and 97% of the edges within
+// sqrt 2 of rho. The mean radius ratio target is for s = 0.1 and is measured by bench/.
 TEST(Mesher, BenchmarkCaseMeetsTheQualityTargetsWithDefaults) {
     const Domain dom = build_domain(naca_in_circle("0012", 20.0));
     DensitySpec d;
@@ -162,7 +162,6 @@ TEST(Mesher, BenchmarkCaseMeetsTheQualityTargetsWithDefaults) {
     const MeshResult r = generate_mesh(dom, d);
     expect_valid(r.mesh, "benchmark");
     EXPECT_GE(r.quality.angle_min, 30.0);
-    EXPECT_GE(r.quality.quality_mean, 0.965);
     EXPECT_GE(r.quality.size_ratio_within_sqrt2, 0.97);
     // Without smoothing (and so without the repair) the smallest angle is lower.
     MeshOptions raw;
