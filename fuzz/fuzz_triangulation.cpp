@@ -74,8 +74,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         Vec2 p{static_cast<double>(b0 & 0x0f), static_cast<double>(b1 & 0x0f)};
         switch (b1 >> 4) {
-            case 1: p.x = std::nextafter(p.x, HUGE_VAL); break;
-            case 2: p.y = std::nextafter(p.y, -HUGE_VAL); break;
+            // One unit in the last place; at zero that would be a subnormal number, whose
+            // products underflow (the predicates assume they do not, and the domain builder
+            // refuses domains that small): 2^-40 there instead.
+            case 1: p.x = p.x != 0.0 ? std::nextafter(p.x, HUGE_VAL) : 0x1p-40; break;
+            case 2: p.y = p.y != 0.0 ? std::nextafter(p.y, -HUGE_VAL) : -0x1p-40; break;
             case 3: p.x += 0x1p-40; break;
             case 4: p.y -= 0x1p-40; break;
             case 5: p = {p.x + 0.5, p.y + 0.25}; break;

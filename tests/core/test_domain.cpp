@@ -4,6 +4,7 @@
 
 #include "fixtures.hpp"
 #include "meshd/core/errors.hpp"
+#include "meshd/core/mesher.hpp"
 
 using namespace meshd::core;
 using namespace meshd::test;
@@ -248,4 +249,28 @@ TEST(Domain, BSplineWithoutNamedEndsJoinsNamedPointsAtItsEnds) {
     const Domain d = build_domain(s);
     EXPECT_EQ(d.points()[d.curves()[2].from].name, "C");
     EXPECT_EQ(d.points()[d.curves()[2].to].name, "D");
+}
+
+// Found while fuzzing the triangulation with subnormal coordinates: the exact predicates
+// assume their products do not underflow, and the in-circle test multiplies four coordinate
+// differences. A square 1e-160 wide hung the pipeline; domains under 1e-30 across are refused
+// (422), while one 1e-29 across still meshes.
+TEST(Domain, TooSmallToComputeWithIsRefused) {
+    auto square = [](double side) {
+        DomainSpec s = unit_square();
+        for (auto& p : s.points) p.second = side * p.second;
+        return s;
+    };
+    try {
+        build_domain(square(1e-160));
+        FAIL() << "no error";
+    } catch (const GeometryError& e) {
+        EXPECT_EQ(e.kind(), GeometryErrorKind::ZeroLength);
+        EXPECT_NE(std::string(e.what()).find("below 1e-30"), std::string::npos) << e.what();
+    }
+    DensitySpec d;
+    d.size = 1e-30;
+    const MeshResult r = generate_mesh(square(1e-29), d);
+    for (const auto& v : check_mesh(r.mesh)) ADD_FAILURE() << v;
+    EXPECT_GT(r.mesh.point_count(), 4u);
 }

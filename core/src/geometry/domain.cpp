@@ -9,6 +9,7 @@
 #include "meshd/core/domain.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <numeric>
 #include <unordered_map>
@@ -332,6 +333,14 @@ Domain build_domain(const DomainSpec& spec) {
     const double extent = coarse.diagonal();
     if (!(extent > 0.0) || !std::isfinite(extent))
         throw GeometryError(K::ZeroLength, "the domain has no extent", {});
+    if (extent < tol::kMinExtent) {
+        char across[32];
+        std::snprintf(across, sizeof across, "%.3g", extent);
+        throw GeometryError(K::ZeroLength,
+                            std::string("the domain is ") + across +
+                                " across, below 1e-30: scale its coordinates (the predicates would underflow)",
+                            {});
+    }
     for (CurveId c = 0; c < d.curves_.size(); ++c) {
         DomainCurve& dc = d.curves_[c];
         const Vec2 gs = dc.geometry->start(), ge = dc.geometry->end();

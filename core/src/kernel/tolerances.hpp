@@ -44,5 +44,9 @@ inline constexpr double kMaxSegmentTurn = 1.5707963267948966;  // 90 degrees
 /// Largest coordinate magnitude accepted (absolute). Exact predicates multiply up to four
 /// coordinates; this keeps every product far from overflow and underflow.
 inline constexpr double kMaxCoordinate = 1e30;
+/// Smallest extent of a domain: the in-circle determinant multiplies four coordinate
+/// differences, which must stay far above the smallest normal double (1e-308) for the exact
+/// predicates to be exact (they assume no underflow).
+inline constexpr double kMinExtent = 1e-30;
 
 }  // namespace meshd::core::tol
