@@ -11,7 +11,6 @@
 // points numbered by the rest of the two bytes.
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -19,6 +18,7 @@
 #include <set>
 #include <vector>
 
+#include "core/fixtures.hpp"
 #include "kernel/predicates.hpp"
 #include "meshd/core/mesh.hpp"
 #include "triangulation/triangulation.hpp"
@@ -44,17 +44,6 @@ bool segments_conflict(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
     // Touching or collinear: a conflict unless they only share an end.
     return on_open_segment(a, b, c) || on_open_segment(a, b, d) || on_open_segment(c, d, a) ||
            on_open_segment(c, d, b);
-}
-
-std::vector<std::array<std::uint32_t, 3>> canonical(const std::vector<Triangle>& tris) {
-    std::vector<std::array<std::uint32_t, 3>> out;
-    for (const Triangle& t : tris) {
-        std::array<std::uint32_t, 3> v = t.v;
-        while (v[0] > v[1] || v[0] > v[2]) std::rotate(v.begin(), v.begin() + 1, v.end());
-        out.push_back(v);
-    }
-    std::sort(out.begin(), out.end());
-    return out;
 }
 
 }  // namespace
@@ -99,21 +88,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
 
     const TriangulationResult r = triangulate_delaunay(pts, cons);
-    Mesh m;
-    for (const Vec2& p : pts) {
-        m.x.push_back(p.x);
-        m.y.push_back(p.y);
-        m.kind.push_back(PointKind::Interior);
-    }
-    m.triangles = r.triangles;
-    for (const Constraint& c : cons) m.edges.push_back({c.a, c.b, 0, kNoCurve, !c.loop});
+    const Mesh m = meshd::test::mesh_of(pts, 0, r, cons);
     const auto broken = check_mesh(m);
     if (!broken.empty()) {
         std::fprintf(stderr, "%zu points, %zu constraints: %s\n", pts.size(), cons.size(), broken.front().c_str());
         std::abort();
     }
     const TriangulationResult f = triangulate_advancing_front(pts, cons);
-    if (canonical(f.triangles) != canonical(r.triangles)) {
+    if (meshd::test::canonical(f.triangles) != meshd::test::canonical(r.triangles)) {
         std::fprintf(stderr, "the triangulators disagree on %zu points, %zu constraints\n", pts.size(), cons.size());
         std::abort();
     }

@@ -105,6 +105,16 @@ def run_connection(port, deadline, rng, tally, catalogue):
         tally.add(kind, r.status)
         return r.status, payload
 
+    def wait_for(job, tries):
+        # Polls the job until it ends (or stops answering 200); its last answer.
+        status, payload = None, b""
+        for _ in range(tries):
+            status, payload = call("GET", "/v1/jobs/" + job, None, "poll")
+            if status != 200 or json.loads(payload)["status"] in ("cancelled", "succeeded", "failed"):
+                break
+            time.sleep(0.05)
+        return status, payload
+
     while time.time() < deadline:
         x = rng.random()
         if x < 0.40:
@@ -124,21 +134,13 @@ def run_connection(port, deadline, rng, tally, catalogue):
                 continue
             job = json.loads(payload)["id"]
             if rng.random() < 0.5:
-                status, _ = call("DELETE", "/v1/jobs/" + job, None, "cancel")
-                for _ in range(600):
-                    status, payload = call("GET", "/v1/jobs/" + job, None, "poll")
-                    if status != 200 or json.loads(payload)["status"] in ("cancelled", "succeeded", "failed"):
-                        break
-                    time.sleep(0.05)
+                call("DELETE", "/v1/jobs/" + job, None, "cancel")
+                status, payload = wait_for(job, 600)
                 if status == 200 and json.loads(payload)["status"] == "cancelled":
                     with tally.lock:
                         tally.async_cancelled += 1
             else:
-                for _ in range(1200):
-                    status, payload = call("GET", "/v1/jobs/" + job, None, "poll")
-                    if status != 200 or json.loads(payload)["status"] in ("cancelled", "succeeded", "failed"):
-                        break
-                    time.sleep(0.05)
+                status, payload = wait_for(job, 1200)
                 if status == 200 and json.loads(payload)["status"] == "succeeded":
                     status, _ = call("GET", "/v1/jobs/%s/mesh?format=vtk" % job, None, "fetch")
                     if status == 200:

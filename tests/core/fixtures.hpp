@@ -76,4 +76,20 @@ inline std::vector<std::array<std::uint32_t, 3>> canonical(const std::vector<cor
     return out;
 }
 
+/// A mesh from a triangulation of points with constraints, for check_mesh: the constraints as
+/// its edges (embedded unless loop segments), `holes` holes.
+inline core::Mesh mesh_of(const std::vector<Vec2>& pts, size_t holes, const core::TriangulationResult& r,
+                          const std::vector<core::Constraint>& cons) {
+    core::Mesh m;
+    for (const Vec2& p : pts) {
+        m.x.push_back(p.x);
+        m.y.push_back(p.y);
+        m.kind.push_back(core::PointKind::Interior);
+    }
+    m.triangles = r.triangles;
+    for (const core::Constraint& c : cons) m.edges.push_back({c.a, c.b, 0, core::kNoCurve, !c.loop});
+    m.holes = holes;
+    return m;
+}
+
 }  // namespace meshd::test
