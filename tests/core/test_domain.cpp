@@ -142,18 +142,6 @@ TEST(DomainErrors, CurveCrossingItself) {
     EXPECT_TRUE(names_curve(e, "loopy"));
 }
 
-TEST(DomainErrors, EmbeddedTouchingACurveAwayFromItsEnds) {
-    DomainSpec s = unit_square();
-    s.points.push_back({"M", {0.5, 0.5}});
-    s.points.push_back({"N", {0.5, 0.0}});  // on the bottom side, but not one of its ends
-    s.curves.push_back(line("wake", "M", "N"));
-    s.embedded = {"wake"};
-    auto e = error_of(s);
-    EXPECT_EQ(e.kind(), GeometryErrorKind::CurvesCross);
-    EXPECT_TRUE(names_curve(e, "wake"));
-    EXPECT_TRUE(names_curve(e, "bottom"));
-}
-
 TEST(DomainErrors, HoleOutsideAndHolesOverlapping) {
     DomainSpec s = unit_square();
     s.points.push_back({"P", {2.0, 0.5}});

@@ -1,6 +1,6 @@
 // Random valid domains through the whole pipeline: star-shaped outer loops of lines, a spline
-// or a circle; circular and polygonal holes; an embedded line from a corner of the outer loop
-// into the domain; constant, linear or radial densities; everything scaled by 10^-6..10^6 and
+// or a circle; circular and polygonal holes, some with an embedded spoke ending on the circle;
+// an embedded line from a corner of the outer loop into the domain; constant, linear or radial densities; everything scaled by 10^-6..10^6 and
 // shifted up to 10^5 of its own size away from the origin. Every seed must give a mesh that
 // passes check_mesh, or a GeometryError (a clear 422/413); nothing else may escape. The seed
 // of a failure is printed. MESHD_RANDOM_DOMAINS sets the number of seeds (default 1000).
@@ -99,6 +99,16 @@ RandomCase random_case(std::uint64_t seed) {
             s.curves.push_back(arc(h, h, h, world(c), u(rng) < 0.5 ? ArcDirection::Ccw : ArcDirection::Cw,
                                    std::string("hole")));
             s.loops.push_back({{h, false}});
+            if (u(rng) < 0.4) {
+                // A short embedded spoke ending on the circle (which is split there): holes are
+                // more than 0.05 apart and the wake below keeps 0.05 off them.
+                const double t = 2.0 * std::numbers::pi * u(rng);
+                const Vec2 dir{std::cos(t), std::sin(t)};
+                s.points.push_back({h + "s0", world(c + r * dir)});
+                s.points.push_back({h + "s1", world(c + (r + 0.03) * dir)});
+                s.curves.push_back(line(h + "spoke", h + "s0", h + "s1", std::string("spoke")));
+                s.embedded.push_back(h + "spoke");
+            }
         } else {
             // A triangle or square hole.
             const int m = 3 + static_cast<int>(u(rng) * 2);

@@ -48,9 +48,9 @@ SizeField::SizeField(const DensitySpec& spec, const Domain& domain) {
     for (const auto& [key, value] : spec.curves) {
         const size_t src = make_source(value, Subject::density("curves", {key}));
         bool matched = false;
-        if (auto c = domain.find_curve(key)) {
-            curve_source_[*c] = src;
-            by_name[*c] = true;
+        for (CurveId c : domain.curve_parts(key)) {
+            curve_source_[c] = src;
+            by_name[c] = true;
             matched = true;
         }
         for (CurveId c = 0; c < domain.curves().size(); ++c) {

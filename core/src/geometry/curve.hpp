@@ -103,6 +103,11 @@ NacaSection naca_section(const NacaSpec& spec, double x_over_c);
 
 std::unique_ptr<Curve> make_airfoil(const AirfoilSpec& spec);
 
+/// The curve `whole` restricted to [ta, tb] (t_begin <= ta < tb <= t_end), keeping its
+/// parameter, breaks and corners. It has no control polygon of its own: its points are
+/// spaced by arc length.
+std::unique_ptr<Curve> make_part(std::shared_ptr<const Curve> whole, double ta, double tb);
+
 /// The points of an airfoil file in contour order (trailing edge, upper surface, leading
 /// edge, lower surface, trailing edge), in the file's own coordinates. Throws BadAirfoil.
 struct AirfoilPoints {

@@ -3,8 +3,9 @@
 // Checks, in order: point coordinates; each curve's own parameters (by its factory); curve
 // ends against the named points; zero length; loops (existence, reuse, closure); embedded
 // curves; then, on polylines that follow every used curve within kFlattenDeviation of the
-// extent: crossings between and within curves, loop containment (one outer loop, holes
-// inside it and apart) and embedded curves inside the domain.
+// extent: curves split where an embedded curve ends on them, crossings between and within
+// curves, loop containment (one outer loop, holes inside it and apart) and embedded curves
+// inside the domain.
 
 #include "meshd/core/domain.hpp"
 
@@ -30,7 +31,13 @@ Domain::~Domain() = default;
 std::optional<CurveId> Domain::find_curve(const std::string& name) const {
     auto it = curve_index_.find(name);
     if (it == curve_index_.end()) return std::nullopt;
-    return it->second;
+    return it->second.front();
+}
+
+const std::vector<CurveId>& Domain::curve_parts(const std::string& name) const {
+    static const std::vector<CurveId> none;
+    auto it = curve_index_.find(name);
+    return it == curve_index_.end() ? none : it->second;
 }
 
 namespace {
@@ -117,13 +124,14 @@ void name_curve(GeometryError& e, const std::string& name) {
 }
 
 struct Flattened {
-    std::vector<Vec2> points;  // polyline in the curve's direction, ends included
+    std::vector<Vec2> points;   // polyline in the curve's direction, ends included
+    std::vector<double> params;  // the curve's parameter at each point
 };
 
 // Adaptive flattening: split while the curve strays from the chord by more than `dev` at
 // the quarter points (checking two points catches S-shaped pieces).
 void flatten_piece(const Curve& c, double ta, double tb, Vec2 pa, Vec2 pb, double dev, int depth,
-                   int min_depth, std::vector<Vec2>& out) {
+                   int min_depth, Flattened& out) {
     const double tm = 0.5 * (ta + tb);
     const Vec2 pm = c.point(tm);
     bool split = depth < min_depth;
@@ -139,7 +147,8 @@ void flatten_piece(const Curve& c, double ta, double tb, Vec2 pa, Vec2 pb, doubl
         flatten_piece(c, ta, tm, pa, pm, dev, depth + 1, min_depth, out);
         flatten_piece(c, tm, tb, pm, pb, dev, depth + 1, min_depth, out);
     } else {
-        out.push_back(pb);
+        out.points.push_back(pb);
+        out.params.push_back(tb);
     }
 }
 
@@ -150,10 +159,11 @@ Flattened flatten(const Curve& c, Vec2 start, Vec2 end, double dev) {
     const int min_depth = cuts.size() < 64 ? 3 : 1;
     Flattened f;
     f.points.push_back(start);
+    f.params.push_back(c.t_begin());
     for (size_t i = 0; i + 1 < cuts.size(); ++i) {
         const Vec2 pa = f.points.back();
         const Vec2 pb = i + 2 == cuts.size() ? end : c.point(cuts[i + 1]);
-        flatten_piece(c, cuts[i], cuts[i + 1], pa, pb, dev, 0, min_depth, f.points);
+        flatten_piece(c, cuts[i], cuts[i + 1], pa, pb, dev, 0, min_depth, f);
     }
     return f;
 }
@@ -190,6 +200,124 @@ bool in_box(const Box& b, Vec2 p) {
 }
 
 std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+
+// The parameter in [ta, tb] of the point of curve c nearest q, by golden-section search (the
+// distance is unimodal over a piece of the flattened polyline, which follows the curve
+// closely), and that distance.
+std::pair<double, double> nearest_on(const Curve& c, double ta, double tb, Vec2 q) {
+    constexpr double kInvPhi = 0.6180339887498949;
+    double a = ta, b = tb;
+    double x1 = b - kInvPhi * (b - a), x2 = a + kInvPhi * (b - a);
+    double f1 = distance(c.point(x1), q), f2 = distance(c.point(x2), q);
+    for (int i = 0; i < 80 && b - a > 0.0; ++i) {
+        if (f1 <= f2) {
+            b = x2, x2 = x1, f2 = f1;
+            x1 = b - kInvPhi * (b - a), f1 = distance(c.point(x1), q);
+        } else {
+            a = x1, x1 = x2, f1 = f2;
+            x2 = a + kInvPhi * (b - a), f2 = distance(c.point(x2), q);
+        }
+    }
+    double t = 0.5 * (a + b), dist = distance(c.point(t), q);
+    for (double e : {ta, tb})
+        if (double de = distance(c.point(e), q); de < dist) t = e, dist = de;
+    return {t, dist};
+}
+
+// An embedded curve may end on another curve away from that curve's ends (a cut from a wall
+// to a hole, a wake line from a point of an airfoil): that curve is split there into parts
+// joined at the embedded curve's end point, so that the point is an end of every curve
+// through it. The search uses the flattened curves (within `dev` of the true ones) in a
+// segment grid; a touch is an end within `match` of the curve. Returns, per curve split, its
+// parts in order (the first keeps the curve's id; the others are appended).
+std::map<CurveId, std::vector<CurveId>> split_where_embedded_ends(std::vector<DomainCurve>& curves,
+                                                                  const std::vector<DomainPoint>& points,
+                                                                  const std::vector<CurveId>& embedded,
+                                                                  const std::vector<Flattened>& flat, double dev,
+                                                                  double match) {
+    using K = GeometryErrorKind;
+    if (embedded.empty()) return {};
+    detail::SegmentSoup soup;
+    std::vector<std::pair<CurveId, std::uint32_t>> seg_of;  // curve, index of the piece's start
+    for (CurveId c = 0; c < curves.size(); ++c) {
+        const auto& f = flat[c].points;
+        for (size_t k = 0; k + 1 < f.size(); ++k) {
+            const auto i = static_cast<std::uint32_t>(soup.points.size());
+            soup.points.push_back(f[k]);
+            soup.points.push_back(f[k + 1]);
+            soup.segments.push_back({i, i + 1});
+            seg_of.push_back({c, static_cast<std::uint32_t>(k)});
+        }
+    }
+    const detail::SegmentGrid grid(soup, dev + match);
+
+    struct Touch {
+        double t;
+        PointId point;
+    };
+    std::map<CurveId, std::vector<Touch>> touches;
+    for (CurveId e : embedded) {
+        for (PointId p : {curves[e].from, curves[e].to}) {
+            if (p == curves[e].to && curves[e].from == curves[e].to) continue;
+            const Vec2 q = points[p].position;
+            CurveId best_curve = kNoCurve;
+            double best_t = 0.0, best_dist = HUGE_VAL;
+            grid.near(q, [&](std::uint32_t s) {
+                const auto [c, k] = seg_of[s];
+                if (c == e || curves[c].from == p || curves[c].to == p) return;
+                const Vec2 a = soup.points[soup.segments[s][0]], b = soup.points[soup.segments[s][1]];
+                const double r = dev + match;
+                if (q.x < std::fmin(a.x, b.x) - r || q.x > std::fmax(a.x, b.x) + r || q.y < std::fmin(a.y, b.y) - r ||
+                    q.y > std::fmax(a.y, b.y) + r)
+                    return;
+                const auto [t, dist] = nearest_on(*curves[c].geometry, flat[c].params[k], flat[c].params[k + 1], q);
+                if (dist <= match && dist < best_dist) best_curve = c, best_t = t, best_dist = dist;
+            });
+            if (best_curve == kNoCurve) continue;
+            const DomainCurve& dc = curves[best_curve];
+            const Vec2 ends[2] = {points[dc.from].position, points[dc.to].position};
+            for (Vec2 end : ends)
+                if (distance(end, q) <= match)
+                    throw GeometryError(K::CoincidentPoints,
+                                        "embedded curve " + quoted(curves[e].name) + " ends at an end of curve " +
+                                            quoted(dc.name) + " by another point: use one point for both",
+                                        {Subject::curve(curves[e].name), Subject::curve(dc.name)});
+            touches[best_curve].push_back({best_t, p});
+        }
+    }
+
+    std::map<CurveId, std::vector<CurveId>> parts;
+    for (auto& [c, list] : touches) {
+        // Several embedded curves may end at one point of the curve.
+        std::sort(list.begin(), list.end(), [](const Touch& a, const Touch& b) { return a.point < b.point; });
+        list.erase(std::unique(list.begin(), list.end(), [](const Touch& a, const Touch& b) { return a.point == b.point; }),
+                   list.end());
+        std::sort(list.begin(), list.end(), [](const Touch& a, const Touch& b) { return a.t < b.t; });
+        const std::shared_ptr<const Curve> whole = curves[c].geometry;
+        const DomainCurve original{curves[c].name, curves[c].tag, whole, curves[c].from, curves[c].to, 0.0};
+        std::vector<CurveId>& ids = parts[c];
+        double ta = whole->t_begin();
+        PointId from = original.from;
+        for (size_t i = 0; i <= list.size(); ++i) {
+            const double tb = i < list.size() ? list[i].t : whole->t_end();
+            const PointId to = i < list.size() ? list[i].point : original.to;
+            if (!(tb > ta) || from == to)
+                throw GeometryError(K::CoincidentPoints,
+                                    "two embedded curves end at the same place on curve " + quoted(original.name) +
+                                        " by different points: use one point for both",
+                                    {Subject::curve(original.name)});
+            DomainCurve part{original.name, original.tag, make_part(whole, ta, tb), from, to, 0.0};
+            part.length = curve_length(*part.geometry);
+            const CurveId id = i == 0 ? c : static_cast<CurveId>(curves.size());
+            if (i == 0) curves[c] = std::move(part);
+            else curves.push_back(std::move(part));
+            ids.push_back(id);
+            ta = tb;
+            from = to;
+        }
+    }
+    return parts;
+}
 
 }  // namespace
 
@@ -309,7 +437,7 @@ Domain build_domain(const DomainSpec& spec) {
         } else {
             dc.to = *to;
         }
-        d.curve_index_[cs.name] = static_cast<CurveId>(d.curves_.size());
+        d.curve_index_[cs.name] = {static_cast<CurveId>(d.curves_.size())};
         d.curves_.push_back(std::move(dc));
     }
 
@@ -437,8 +565,11 @@ Domain build_domain(const DomainSpec& spec) {
         loops.push_back(std::move(loop));
     }
     if (loops.empty()) throw GeometryError(K::NoOuterLoop, "the geometry has no loops", {});
-    for (size_t ei = 0; ei < spec.embedded.size(); ++ei)
+    std::vector<int> embedded_at;  // each embedded curve's place in spec.embedded
+    for (size_t ei = 0; ei < spec.embedded.size(); ++ei) {
         d.embedded_.push_back(curve_of(spec.embedded[ei], Subject::embedded(static_cast<int>(ei))));
+        embedded_at.push_back(static_cast<int>(ei));
+    }
     // A curve in no loop and not embedded is almost always one forgotten in a loop; it would
     // also leave an empty boundary group in the mesh files.
     for (CurveId c = 0; c < d.curves_.size(); ++c)
@@ -447,11 +578,55 @@ Domain build_domain(const DomainSpec& spec) {
                                 "curve " + quoted(d.curves_[c].name) + " is in no loop and not embedded",
                                 {Subject::curve(d.curves_[c].name)});
 
-    // Flatten every used curve; end points are shared by index.
+    // Flatten every curve (all are used now); end points are shared by index.
     const double dev = tol::kFlattenDeviation * extent;
+    std::vector<Flattened> flat(d.curves_.size());
+    auto flatten_curve = [&](CurveId c) {
+        const DomainCurve& dc = d.curves_[c];
+        flat[c] = flatten(*dc.geometry, d.points_[dc.from].position, d.points_[dc.to].position, dev);
+    };
+    for (CurveId c = 0; c < d.curves_.size(); ++c) flatten_curve(c);
+
+    // Embedded curves that end on a curve away from its ends: that curve is split there.
+    const std::map<CurveId, std::vector<CurveId>> parts =
+        split_where_embedded_ends(d.curves_, d.points_, d.embedded_, flat, dev, tol::kPointMatch * extent);
+    if (!parts.empty()) {
+        auto replace = [&](std::vector<CurveUse>& items) {
+            std::vector<CurveUse> out;
+            for (const CurveUse& u : items) {
+                const auto it = parts.find(u.curve);
+                if (it == parts.end()) {
+                    out.push_back(u);
+                } else if (u.reversed) {
+                    for (auto p = it->second.rbegin(); p != it->second.rend(); ++p) out.push_back({*p, true});
+                } else {
+                    for (CurveId p : it->second) out.push_back({p, false});
+                }
+            }
+            items = std::move(out);
+        };
+        for (DomainLoop& l : loops) replace(l.items);
+        std::vector<CurveId> emb;
+        std::vector<int> emb_at;
+        for (size_t ei = 0; ei < d.embedded_.size(); ++ei) {
+            const auto it = parts.find(d.embedded_[ei]);
+            const std::vector<CurveId> one{d.embedded_[ei]};
+            for (CurveId c : it == parts.end() ? one : it->second) {
+                emb.push_back(c);
+                emb_at.push_back(embedded_at[ei]);
+            }
+        }
+        d.embedded_ = std::move(emb);
+        embedded_at = std::move(emb_at);
+        flat.resize(d.curves_.size());
+        for (const auto& [whole, ids] : parts) {
+            d.curve_index_[d.curves_[whole].name] = ids;
+            for (CurveId c : ids) flatten_curve(c);
+        }
+    }
+
     detail::SegmentSoup soup;
     std::vector<CurveId> seg_curve;
-    std::vector<std::vector<Vec2>> flat(d.curves_.size());
     std::vector<std::uint32_t> soup_of_point(d.points_.size(), UINT32_MAX);
     auto soup_point = [&](PointId p) {
         if (soup_of_point[p] == UINT32_MAX) {
@@ -461,10 +636,8 @@ Domain build_domain(const DomainSpec& spec) {
         return soup_of_point[p];
     };
     for (CurveId c = 0; c < d.curves_.size(); ++c) {
-        if (!used[c]) continue;
         const DomainCurve& dc = d.curves_[c];
-        flat[c] = flatten(*dc.geometry, d.points_[dc.from].position, d.points_[dc.to].position, dev).points;
-        const auto& f = flat[c];
+        const auto& f = flat[c].points;
         std::uint32_t prev = soup_point(dc.from);
         for (size_t k = 1; k < f.size(); ++k) {
             std::uint32_t cur;
@@ -507,7 +680,7 @@ Domain build_domain(const DomainSpec& spec) {
     std::vector<std::vector<Vec2>> rings(loops.size());
     for (size_t li = 0; li < loops.size(); ++li) {
         for (const CurveUse& u : loops[li].items) {
-            const auto& f = flat[u.curve];
+            const auto& f = flat[u.curve].points;
             if (u.reversed) rings[li].insert(rings[li].end(), f.rbegin(), f.rend() - 1);
             else rings[li].insert(rings[li].end(), f.begin(), f.end() - 1);
         }
@@ -561,7 +734,7 @@ Domain build_domain(const DomainSpec& spec) {
     }
     // Embedded curves inside the domain: probe a flattened point away from the ends.
     for (size_t ei = 0; ei < d.embedded_.size(); ++ei) {
-        const auto& f = flat[d.embedded_[ei]];
+        const auto& f = flat[d.embedded_[ei]].points;
         const Vec2 probe = f.size() > 2 ? f[f.size() / 2] : 0.5 * (f.front() + f.back());
         bool inside = winding(rings[outer], probe) != 0;
         for (size_t li = 0; inside && li < loops.size(); ++li)
@@ -570,7 +743,7 @@ Domain build_domain(const DomainSpec& spec) {
             throw GeometryError(K::EmbeddedOutside,
                                 "embedded curve " + quoted(d.curves_[d.embedded_[ei]].name) +
                                     " lies outside the domain",
-                                {Subject::embedded(static_cast<int>(ei)),
+                                {Subject::embedded(embedded_at[ei]),
                                  Subject::curve(d.curves_[d.embedded_[ei]].name)});
     }
 
@@ -582,7 +755,7 @@ Domain build_domain(const DomainSpec& spec) {
         d.loops_.push_back(std::move(loops[li]));
         d.outlines_.push_back(std::move(rings[li]));
     }
-    for (CurveId c : d.embedded_) d.box_.add(box_of(flat[c]));
+    for (CurveId c : d.embedded_) d.box_.add(box_of(flat[c].points));
     return d;
 }
 

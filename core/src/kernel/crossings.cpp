@@ -5,62 +5,77 @@
 #include <cmath>
 
 #include "kernel/predicates.hpp"
-#include "kernel/size_grid.hpp"
 
 namespace meshd::core::detail {
+
+namespace {
+
+Box grown_box(const SegmentSoup& soup, double margin) {
+    Box box;
+    for (const auto& s : soup.segments) {
+        box.add(soup.points[s[0]]);
+        box.add(soup.points[s[1]]);
+    }
+    if (!soup.segments.empty()) {
+        box.lo = box.lo - Vec2{margin, margin};
+        box.hi = box.hi + Vec2{margin, margin};
+    }
+    return box;
+}
+
+double longest_side(const Box& b) { return std::fmax(b.hi.x - b.lo.x, b.hi.y - b.lo.y); }
+
+}  // namespace
+
+SegmentGrid::SegmentGrid(const SegmentSoup& soup, double margin)
+    : SegmentGrid(soup, margin, grown_box(soup, margin)) {}
+
+SegmentGrid::SegmentGrid(const SegmentSoup& soup, double margin, const Box& box)
+    : soup_(soup), margin_(margin), classes_(box.lo, longest_side(box)) {
+    const size_t n = soup.segments.size();
+    if (n == 0 || !(longest_side(box) > 0.0)) return;
+    // Each segment in the grid whose cells (2 c_k) are one to two times its grown box's
+    // longest side: the box spans at most 2 x 2 cells there.
+    cls_.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const Vec2 a = soup.points[soup.segments[i][0]], b = soup.points[soup.segments[i][1]];
+        const double side = std::fmax(std::fabs(a.x - b.x), std::fabs(a.y - b.y)) + 2.0 * margin;
+        cls_[i] = classes_.class_of(0.5 * side);
+        used_[static_cast<size_t>(cls_[i])] = true;
+        const Cells r = cells(i, cls_[i]);
+        for (auto x = r.x0; x <= r.x1; ++x)
+            for (auto y = r.y0; y <= r.y1; ++y) grid_.push(SizeClasses::key(cls_[i], x, y), i);
+    }
+}
+
+SegmentGrid::Cells SegmentGrid::cells(std::uint32_t segment, int k) const {
+    const Vec2 a = soup_.points[soup_.segments[segment][0]], b = soup_.points[soup_.segments[segment][1]];
+    return Cells{classes_.ix(std::fmin(a.x, b.x) - margin_, k), classes_.ix(std::fmax(a.x, b.x) + margin_, k),
+                 classes_.iy(std::fmin(a.y, b.y) - margin_, k), classes_.iy(std::fmax(a.y, b.y) + margin_, k)};
+}
 
 std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const SegmentSoup& soup) {
     const auto& pts = soup.points;
     const auto& segs = soup.segments;
     const size_t n = segs.size();
     if (n < 2) return std::nullopt;
-
-    Box box;
-    for (const auto& s : segs) {
-        box.add(pts[s[0]]);
-        box.add(pts[s[1]]);
-    }
-    const double extent = std::fmax(box.hi.x - box.lo.x, box.hi.y - box.lo.y);
-    if (!(extent > 0.0)) return std::nullopt;
-
-    // Each segment in the grid whose cells (2 c_k) are one to two times its longest box side:
-    // its box spans at most 2 x 2 cells there.
-    const SizeClasses classes(box.lo, extent);
-    std::vector<int> cls(n);
-    std::array<bool, SizeClasses::kMax + 1> used{};
-    auto side = [&](size_t i) {
-        const Vec2 a = pts[segs[i][0]], b = pts[segs[i][1]];
-        return std::fmax(std::fabs(a.x - b.x), std::fabs(a.y - b.y));
-    };
-    struct Range { std::int64_t x0, x1, y0, y1; };
-    auto cell_range = [&](size_t i, int k) {
-        const Vec2 a = pts[segs[i][0]], b = pts[segs[i][1]];
-        return Range{classes.ix(std::fmin(a.x, b.x), k), classes.ix(std::fmax(a.x, b.x), k),
-                     classes.iy(std::fmin(a.y, b.y), k), classes.iy(std::fmax(a.y, b.y), k)};
-    };
-    CellMap grid;
-    for (size_t i = 0; i < n; ++i) {
-        cls[i] = classes.class_of(0.5 * side(i));
-        used[static_cast<size_t>(cls[i])] = true;
-        const Range r = cell_range(i, cls[i]);
-        for (auto x = r.x0; x <= r.x1; ++x)
-            for (auto y = r.y0; y <= r.y1; ++y) grid.push(SizeClasses::key(cls[i], x, y), static_cast<std::uint32_t>(i));
-    }
+    const SegmentGrid grid(soup, 0.0);
+    if (grid.empty()) return std::nullopt;
 
     std::optional<std::pair<std::uint32_t, std::uint32_t>> best;
     std::vector<std::uint32_t> candidates;
-    for (size_t i = 0; i < n; ++i) {
+    for (std::uint32_t i = 0; i < n; ++i) {
         candidates.clear();
-        for (int k = 1; k <= cls[i]; ++k) {  // classes of segments no smaller than this one
-            if (!used[static_cast<size_t>(k)]) continue;
-            const Range r = cell_range(i, k);
+        const int own = grid.size_class(i);
+        for (int k = 1; k <= own; ++k) {  // classes of segments no smaller than this one
+            if (!grid.class_used(k)) continue;
+            const SegmentGrid::Cells r = grid.cells(i, k);
             for (auto x = r.x0; x <= r.x1; ++x)
                 for (auto y = r.y0; y <= r.y1; ++y)
-                    for (auto e = grid.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = grid.next(e)) {
-                        const std::uint32_t j = grid.item(e);
-                        if (j == i || (cls[j] == cls[i] && j < i)) continue;  // same class: test once
+                    grid.in_cell(k, x, y, [&](std::uint32_t j) {
+                        if (j == i || (grid.size_class(j) == own && j < i)) return;  // same class: test once
                         candidates.push_back(j);
-                    }
+                    });
         }
         if (candidates.empty()) continue;
         std::sort(candidates.begin(), candidates.end());
@@ -79,8 +94,7 @@ std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const Segme
             } else if (!segments_intersect(pts[s[0]], pts[s[1]], pts[t[0]], pts[t[1]])) {
                 continue;
             }
-            const auto ii = static_cast<std::uint32_t>(i);
-            const std::pair<std::uint32_t, std::uint32_t> pair{std::min(ii, j), std::max(ii, j)};
+            const std::pair<std::uint32_t, std::uint32_t> pair{std::min(i, j), std::max(i, j)};
             if (!best || pair < *best) best = pair;
         }
     }

@@ -1,11 +1,13 @@
 #pragma once
-// Finding crossing segments among many, without the quadratic all-pairs scan.
+// Finding crossing segments among many, and the segments near a point, without the quadratic
+// all-pairs scan.
 //
 // Segments are sorted into the size classes of size_grid.hpp (powers of two of their longest
-// box side); in the grid of its own class a segment touches at most 2 x 2 cells. A pair is tested when the smaller segment is looked up in
-// the grids of classes no smaller than its own: O(classes) cells per segment, so the scan
-// is linear in the number of segments for a bounded ratio of lengths per cell.
-// Segments that share an end (by point index) are neighbours and are not tested.
+// box side); in the grid of its own class a segment touches at most 2 x 2 cells. A pair is
+// tested when the smaller segment is looked up in the grids of classes no smaller than its
+// own: O(classes) cells per segment, so the scan is linear in the number of segments for a
+// bounded ratio of lengths per cell. Segments that share an end (by point index) are
+// neighbours and are not tested.
 
 #include <array>
 #include <cstdint>
@@ -13,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "kernel/size_grid.hpp"
 #include "meshd/core/vec2.hpp"
 
 namespace meshd::core::detail {
@@ -20,6 +23,44 @@ namespace meshd::core::detail {
 struct SegmentSoup {
     std::vector<Vec2> points;
     std::vector<std::array<std::uint32_t, 2>> segments;  // point indices
+};
+
+/// The segments of a soup by size class, each with its box grown by `margin` on every side.
+class SegmentGrid {
+public:
+    struct Cells {
+        std::int64_t x0, x1, y0, y1;
+    };
+
+    SegmentGrid(const SegmentSoup& soup, double margin);
+
+    bool empty() const { return cls_.empty(); }
+    int size_class(std::uint32_t segment) const { return cls_[segment]; }
+    bool class_used(int k) const { return used_[static_cast<size_t>(k)]; }
+    /// The cells of class k that the segment's grown box covers.
+    Cells cells(std::uint32_t segment, int k) const;
+
+    template <class F>
+    void in_cell(int k, std::int64_t x, std::int64_t y, F&& visit) const {
+        for (auto e = grid_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = grid_.next(e)) visit(grid_.item(e));
+    }
+    /// Every segment whose grown box may hold p (a superset: callers test), some more than once.
+    template <class F>
+    void near(Vec2 p, F&& visit) const {
+        if (empty()) return;
+        for (int k = 1; k <= SizeClasses::kMax; ++k)
+            if (class_used(k)) in_cell(k, classes_.ix(p.x, k), classes_.iy(p.y, k), visit);
+    }
+
+private:
+    SegmentGrid(const SegmentSoup& soup, double margin, const Box& box);
+
+    const SegmentSoup& soup_;
+    double margin_;
+    SizeClasses classes_;
+    std::vector<int> cls_;
+    std::array<bool, SizeClasses::kMax + 1> used_{};
+    CellMap grid_;
 };
 
 /// The crossing pair (i, j), i < j, with the smallest i (then j), if any.

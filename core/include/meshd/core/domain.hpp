@@ -110,10 +110,13 @@ struct DomainPoint {
     Vec2 position;
 };
 
+/// A curve of the domain. Where an embedded curve ends on a curve away from its ends, that
+/// curve is split there into parts that keep its name, tag and parameter; the touch point
+/// is an end of each (DomainSpec's curves map to one or more DomainCurves).
 struct DomainCurve {
     std::string name;
     TagId tag;
-    std::unique_ptr<Curve> geometry;
+    std::shared_ptr<const Curve> geometry;
     PointId from, to;  ///< equal for a closed curve
     double length;     ///< arc length
 };
@@ -151,7 +154,10 @@ public:
     /// Bounding box of all used curves.
     const Box& box() const { return box_; }
     double extent() const { return box_.diagonal(); }
+    /// The curve of that name (its first part when it was split).
     std::optional<CurveId> find_curve(const std::string& name) const;
+    /// Every part of the curve of that name, in its own direction (empty when unknown).
+    const std::vector<CurveId>& curve_parts(const std::string& name) const;
     size_t hole_count() const { return loops_.empty() ? 0 : loops_.size() - 1; }
 
 private:
@@ -162,7 +168,7 @@ private:
     std::vector<CurveId> embedded_;
     std::vector<std::vector<Vec2>> outlines_;
     std::vector<std::string> tags_;
-    std::map<std::string, CurveId> curve_index_;
+    std::map<std::string, std::vector<CurveId>> curve_index_;
     Box box_;
 };
 
