@@ -188,3 +188,26 @@ TEST(Boundary, DeterministicVertexOrder) {
     EXPECT_EQ(a.x, b.x);
     EXPECT_EQ(a.y, b.y);
 }
+
+// Found by fuzz/fuzz_request (crash edc7f61b): a NACA section asked for a size 30 times its
+// chord (capped at the domain's extent, still beyond its length) became one point: the
+// shape cap is sampled where the density is, and every sample missed the leading edge, so
+// the closed contour got no point but its start and the mesh an edge from a point to itself.
+// Each smooth piece now gets at least one segment per 90 degrees its tangent turns.
+TEST(Boundary, AClosedCurveFarCoarserThanItselfKeepsItsShape) {
+    DomainSpec s = naca_in_circle("0516", 2.0);
+    DensitySpec spec;
+    spec.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")}, {"wing", std::string("0.05*sqrt((x+601)^2+y^2)")}};
+    spec.interior = InteriorMode::Interpolate;
+    spec.min = 0.002;
+    const Domain dom = build_domain(s);
+    SizeField rho(spec, dom);
+    const Discretisation d = discretise_boundary(dom, rho);
+    ASSERT_EQ(d.loops.size(), 2u);
+    // Between its sharp trailing edge (where the tangent turns by 180 degrees less the wedge
+    // angle) and itself, the contour's smooth part turns by more than 180 degrees: three
+    // segments or more, enclosing area.
+    EXPECT_GE(d.loops[1].size(), 3u);
+    EXPECT_LT(polygon_area(d, d.loops[1]), 0.0);  // a hole: clockwise
+    for (const BoundarySegment& seg : d.segments) EXPECT_NE(seg.a, seg.b);
+}

@@ -27,6 +27,26 @@ double shape_cap(const Curve& g, double ta, double tb, double t, double min_size
     return std::fmax(tol::kMaxSegmentTurn * distance(g.point(t0), g.point(t1)) / turn, min_size);
 }
 
+// The fewest segments that keep the shape of piece [ta, tb] of g whatever the density: one
+// per kMaxSegmentTurn of the tangent's total turn over the piece (sampled), so that a closed
+// curve gets at least four and no curve collapses onto its chord when the density asks for
+// sizes beyond its length.
+size_t fewest_segments(const Curve& g, double ta, double tb) {
+    if (g.type() == CurveType::Line) return 1;
+    constexpr int kSamples = 64;
+    const double inset = 1e-9 * (tb - ta);
+    double turn = 0.0;
+    Vec2 prev = g.derivative(ta + inset);
+    for (int i = 1; i <= kSamples; ++i) {
+        const double t = i == kSamples ? tb - inset : ta + (tb - ta) * i / kSamples;
+        const Vec2 d = g.derivative(t);
+        const double a = std::atan2(std::fabs(cross(prev, d)), dot(prev, d));
+        if (std::isfinite(a)) turn += a;
+        prev = d;
+    }
+    return std::max<size_t>(1, static_cast<size_t>(std::ceil(turn / tol::kMaxSegmentTurn - 1e-9)));
+}
+
 // Places the points of one curve after another, sharing the domain points at curve ends.
 class CurveSampler {
 public:
@@ -85,8 +105,13 @@ public:
                     [&](double s) { return size_at(cuts[k], cuts[k + 1], param->param_at(sa + s)); },
                     rho_.min_size(), stations_left_);
                 stations_left_ -= profile.s.size();
-                const std::vector<double> stations =
-                    graded_stations(profile, opt_.max_points ? opt_.max_points : SIZE_MAX);
+                std::vector<double> stations = graded_stations(profile, opt_.max_points ? opt_.max_points : SIZE_MAX);
+                const size_t fewest = fewest_segments(g, cuts[k], cuts[k + 1]);
+                if (stations.size() < fewest + 1) {
+                    // The density asks for sizes beyond what keeps the piece's shape: equal steps.
+                    stations.resize(fewest + 1);
+                    for (size_t i = 0; i <= fewest; ++i) stations[i] = len * static_cast<double>(i) / static_cast<double>(fewest);
+                }
                 for (size_t i = 1; i + 1 < stations.size(); ++i) {
                     const double t = param->param_at(sa + stations[i]);
                     out.push_back(add_vertex(g.point(t), c, t, size_at(cuts[k], cuts[k + 1], t)));
