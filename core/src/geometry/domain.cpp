@@ -321,9 +321,14 @@ std::map<CurveId, std::vector<CurveId>> split_where_embedded_ends(std::vector<Do
 
 }  // namespace
 
-Domain build_domain(const DomainSpec& spec) {
+Domain build_domain(const DomainSpec& spec, Observer* observer) {
     using K = GeometryErrorKind;
     Domain d;
+    // Asked every 64 curves and between the checks whether to stop.
+    size_t polls = 0;
+    auto poll = [&](bool now = false) {
+        if (observer && (now || (++polls & 63u) == 0) && observer->should_stop()) throw Cancelled();
+    };
 
     // Named points.
     std::map<std::string, PointId> point_index;
@@ -360,6 +365,7 @@ Domain build_domain(const DomainSpec& spec) {
     // Curves.
     std::map<std::string, TagId> tag_index;
     for (const CurveSpec& cs : spec.curves) {
+        poll();
         if (d.curve_index_.count(cs.name)) continue;
         std::optional<PointId> from, to;
         if (cs.from) from = lookup(cs.name, "from", *cs.from);
@@ -444,6 +450,7 @@ Domain build_domain(const DomainSpec& spec) {
     // Extent (coarse) for the tolerances, then lengths and ends.
     Box coarse;
     for (CurveId c = 0; c < d.curves_.size(); ++c) {
+        poll();
         const Curve& g = *d.curves_[c].geometry;
         Box own;
         for (int k = 0; k <= 64; ++k) own.add(g.point(g.t_begin() + (g.t_end() - g.t_begin()) * k / 64.0));
@@ -470,6 +477,7 @@ Domain build_domain(const DomainSpec& spec) {
                             {});
     }
     for (CurveId c = 0; c < d.curves_.size(); ++c) {
+        poll();
         DomainCurve& dc = d.curves_[c];
         const Vec2 gs = dc.geometry->start(), ge = dc.geometry->end();
         const double match = tol::kPointMatch * extent;
@@ -497,6 +505,7 @@ Domain build_domain(const DomainSpec& spec) {
                                 {Subject::curve(dc.name)});
     }
     // Distinct named points at the same place.
+    poll(true);
     {
         const double match = tol::kPointMatch * extent;
         PointGrid grid(coarse.lo, match);
@@ -582,6 +591,7 @@ Domain build_domain(const DomainSpec& spec) {
     const double dev = tol::kFlattenDeviation * extent;
     std::vector<Flattened> flat(d.curves_.size());
     auto flatten_curve = [&](CurveId c) {
+        poll();
         const DomainCurve& dc = d.curves_[c];
         flat[c] = flatten(*dc.geometry, d.points_[dc.from].position, d.points_[dc.to].position, dev);
     };
@@ -652,6 +662,7 @@ Domain build_domain(const DomainSpec& spec) {
             prev = cur;
         }
     }
+    poll(true);
     if (auto hit = detail::find_crossing(soup)) {
         const CurveId a = seg_curve[hit->first], b = seg_curve[hit->second];
         const auto& sa = soup.segments[hit->first];
@@ -677,6 +688,7 @@ Domain build_domain(const DomainSpec& spec) {
     }
 
     // Loop polygons, areas, the outer loop, holes.
+    poll(true);
     std::vector<std::vector<Vec2>> rings(loops.size());
     for (size_t li = 0; li < loops.size(); ++li) {
         for (const CurveUse& u : loops[li].items) {
@@ -693,6 +705,7 @@ Domain build_domain(const DomainSpec& spec) {
     for (size_t li = 0; li < loops.size(); ++li) boxes[li] = box_of(rings[li]);
     for (size_t li = 0; li < loops.size(); ++li) {
         if (li == outer) continue;
+        poll();
         const Vec2 probe = rings[li].front();
         if (!in_box(boxes[outer], probe) || winding(rings[outer], probe) == 0)
             throw GeometryError(K::HoleOutside,

@@ -79,6 +79,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         r.stats.forecast_points = forecast.total();
         if (forecast.total() > static_cast<double>(options.max_points))
             refuse_too_many(forecast.total(), options.max_points);
+        if (observer) observer->on_forecast(forecast.total(), peak_bytes_for(forecast.total()));
     }
 
     // Boundary.
@@ -165,7 +166,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
 
 MeshResult generate_mesh(const DomainSpec& geometry, const DensitySpec& density, const MeshOptions& options,
                          Observer* observer) {
-    return generate_mesh(build_domain(geometry), density, options, observer);
+    return generate_mesh(build_domain(geometry, observer), density, options, observer);
 }
 
 }  // namespace meshd::core

@@ -17,6 +17,7 @@
 #include <variant>
 #include <vector>
 
+#include "meshd/core/observer.hpp"
 #include "meshd/core/vec2.hpp"
 
 namespace meshd::core {
@@ -161,7 +162,7 @@ public:
     size_t hole_count() const { return loops_.empty() ? 0 : loops_.size() - 1; }
 
 private:
-    friend Domain build_domain(const DomainSpec& spec);
+    friend Domain build_domain(const DomainSpec& spec, Observer* observer);
     std::vector<DomainPoint> points_;
     std::vector<DomainCurve> curves_;
     std::vector<DomainLoop> loops_;
@@ -173,7 +174,8 @@ private:
 };
 
 /// Validates the description and builds the domain. Throws GeometryError naming the curves,
-/// loops or points involved. Cost: O(n log n) in the size of the flattened curves.
-Domain build_domain(const DomainSpec& spec);
+/// loops or points involved, or Cancelled when the observer asks to stop (it is asked between
+/// curves and between the checks). Cost: O(n log n) in the size of the flattened curves.
+Domain build_domain(const DomainSpec& spec, Observer* observer = nullptr);
 
 }  // namespace meshd::core

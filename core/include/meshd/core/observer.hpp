@@ -3,6 +3,8 @@
 /// regularly whether it should stop (it then throws Cancelled). The server implements this
 /// with a job's state; the CLI with a progress bar; tests with a counter.
 
+#include <cstddef>
+
 namespace meshd::core {
 
 enum class Stage { Boundary, Interior, Triangulation, Smoothing, Quality };
@@ -14,6 +16,11 @@ public:
     /// fraction in [0, 1] of the stage. Called often; keep it cheap.
     virtual void on_progress(Stage stage, double fraction) { (void)stage; (void)fraction; }
     virtual bool should_stop() { return false; }
+    /// Once per mesh, after the admission check and before any stage: the points the mesh is
+    /// forecast to have and the memory a run of that size needs at its peak
+    /// (peak_bytes_for() of mesher.hpp). An observer may wait here (until memory is free) or
+    /// throw to refuse the job; the pipeline lets its exception through.
+    virtual void on_forecast(double points, std::size_t peak_bytes) { (void)points; (void)peak_bytes; }
 };
 
 }  // namespace meshd::core
