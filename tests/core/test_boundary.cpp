@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "fixtures.hpp"
 #include "boundary/boundary.hpp"
@@ -193,7 +194,7 @@ TEST(Boundary, DeterministicVertexOrder) {
 // chord (capped at the domain's extent, still beyond its length) became one point: the
 // shape cap is sampled where the density is, and every sample missed the leading edge, so
 // the closed contour got no point but its start and the mesh an edge from a point to itself.
-// Each smooth piece now gets at least one segment per 90 degrees its tangent turns.
+// A step over which the tangent turns by more than 135 degrees is now halved until none does.
 TEST(Boundary, AClosedCurveFarCoarserThanItselfKeepsItsShape) {
     DomainSpec s = naca_in_circle("0516", 2.0);
     DensitySpec spec;
@@ -210,4 +211,49 @@ TEST(Boundary, AClosedCurveFarCoarserThanItselfKeepsItsShape) {
     EXPECT_GE(d.loops[1].size(), 3u);
     EXPECT_LT(polygon_area(d, d.loops[1]), 0.0);  // a hole: clockwise
     for (const BoundarySegment& seg : d.segments) EXPECT_NE(seg.a, seg.b);
+}
+
+// Found by fuzz/fuzz_request (crash c8a20a23): a density that jumps from about 200 at the main
+// wing's trailing edge to 1.4 near its leading edge made the march step from the trailing
+// edge over the whole upper surface and the leading edge: the wing became a sliver along its
+// lower surface that ran the wrong way, and the triangulation failed (a 500). Along every curve,
+// the tangent now turns by at most 135 degrees (kMaxStepTurn) between two consecutive points.
+TEST(Boundary, ADensityJumpingOverALeadingEdgeKeepsTheShape) {
+    DomainSpec s;
+    s.points = {{"F", {449, 0}}};
+    NacaSpec main_wing, flap;
+    main_wing.code = "4412";
+    main_wing.placement.chord = 80;
+    flap.code = "0012";
+    flap.placement = {30, {81, -12}, 30};
+    s.curves.push_back({"main", main_wing, std::nullopt, std::nullopt, std::string("wall")});
+    s.curves.push_back({"flap", flap, std::nullopt, std::nullopt, std::string("flap")});
+    s.curves.push_back(arc("farfield", "F", "F", {25, 0}, ArcDirection::Ccw, "farfield"));
+    s.loops = {loop({"farfield"}), loop({"main"}), loop({"flap"})};
+    DensitySpec spec;
+    spec.size = std::string(
+        "x < 50 ? 0.2*sqrt(x^2+y^2)+1.4 : (x < 78 ? 0.2*sqrt((x-73)^2+(y+13)^2)+1.1 : "
+        "(x < 100 ? 9.2*sqrt((x-88)^2+(y+20)^2)+6.1 : 0.2*sqrt((x-111)^2+(y+36)^2)+1.1))");
+    const Domain dom = build_domain(s);
+    SizeField rho(spec, dom);
+    const Discretisation d = discretise_boundary(dom, rho);
+    for (size_t l = 0; l < d.loops.size(); ++l) EXPECT_EQ(polygon_area(d, d.loops[l]) < 0.0, dom.loops()[l].hole);
+    for (CurveId c = 0; c < dom.curves().size(); ++c) {
+        const Curve& g = *dom.curves()[c].geometry;
+        const std::vector<VertexId>& on = d.curve_vertices[c];
+        auto param = [&](size_t i) { return i == 0 ? g.t_begin() : i + 1 == on.size() ? g.t_end() : d.param[on[i]]; };
+        for (size_t i = 0; i + 1 < on.size(); ++i) {
+            // The turn of the tangent between the two points, sampled finely (corners excluded:
+            // these curves have none inside).
+            const double t0 = param(i), t1 = param(i + 1), inset = 1e-9 * (t1 - t0);
+            double turn = 0.0;
+            Vec2 prev = g.derivative(t0 + inset);
+            for (int k = 1; k <= 256; ++k) {
+                const Vec2 next = g.derivative(k == 256 ? t1 - inset : t0 + (t1 - t0) * k / 256.0);
+                turn += std::atan2(std::fabs(cross(prev, next)), dot(prev, next));
+                prev = next;
+            }
+            EXPECT_LE(turn, 0.75 * std::numbers::pi * 1.05) << dom.curves()[c].name << " segment " << i;
+        }
+    }
 }

@@ -27,24 +27,48 @@ double shape_cap(const Curve& g, double ta, double tb, double t, double min_size
     return std::fmax(tol::kMaxSegmentTurn * distance(g.point(t0), g.point(t1)) / turn, min_size);
 }
 
-// The fewest segments that keep the shape of piece [ta, tb] of g whatever the density: one
-// per kMaxSegmentTurn of the tangent's total turn over the piece (sampled), so that a closed
-// curve gets at least four and no curve collapses onto its chord when the density asks for
-// sizes beyond its length.
-size_t fewest_segments(const Curve& g, double ta, double tb) {
-    if (g.type() == CurveType::Line) return 1;
-    constexpr int kSamples = 64;
+// The angle between two directions (radians, 0 for a zero vector).
+double turn_between(Vec2 a, Vec2 b) {
+    const double t = std::atan2(std::fabs(cross(a, b)), dot(a, b));
+    return std::isfinite(t) ? t : 0.0;
+}
+
+// Halves every step of `stations` (spacing coordinates from sa, on the smooth piece [ta, tb] of
+// g) over which the tangent turns by more than kMaxStepTurn, until none does. shape_cap
+// bounds the size where rho is sampled; a density that jumps (a size far beyond the curve next
+// to a fine one) can still make the march step over a leading edge, which would leave a chord
+// across the curve's shape, or a closed curve as a single point.
+std::vector<double> keep_shape(const std::vector<double>& stations, const Curve& g, const CurveParametrisation& param,
+                               double sa, double ta, double tb) {
     const double inset = 1e-9 * (tb - ta);
-    double turn = 0.0;
-    Vec2 prev = g.derivative(ta + inset);
-    for (int i = 1; i <= kSamples; ++i) {
-        const double t = i == kSamples ? tb - inset : ta + (tb - ta) * i / kSamples;
-        const Vec2 d = g.derivative(t);
-        const double a = std::atan2(std::fabs(cross(prev, d)), dot(prev, d));
-        if (std::isfinite(a)) turn += a;
-        prev = d;
+    auto tangent = [&](double s) { return g.derivative(std::clamp(param.param_at(sa + s), ta + inset, tb - inset)); };
+    std::vector<double> out{stations.front()};
+    struct Step {
+        double s0, s1;
+        Vec2 d0, d1;
+        int depth;
+    };
+    std::vector<Step> todo;
+    Vec2 d_prev = tangent(stations.front());
+    for (size_t i = 0; i + 1 < stations.size(); ++i) {
+        const Vec2 d_next = tangent(stations[i + 1]);
+        todo.push_back({stations[i], stations[i + 1], d_prev, d_next, 0});
+        while (!todo.empty()) {
+            const Step st = todo.back();
+            todo.pop_back();
+            const double sm = 0.5 * (st.s0 + st.s1);
+            const Vec2 dm = tangent(sm);
+            if (st.depth < 40 && sm > st.s0 && sm < st.s1 &&
+                turn_between(st.d0, dm) + turn_between(dm, st.d1) > tol::kMaxStepTurn) {
+                todo.push_back({sm, st.s1, dm, st.d1, st.depth + 1});  // the later half after the earlier
+                todo.push_back({st.s0, sm, st.d0, dm, st.depth + 1});
+            } else {
+                out.push_back(st.s1);
+            }
+        }
+        d_prev = d_next;
     }
-    return std::max<size_t>(1, static_cast<size_t>(std::ceil(turn / tol::kMaxSegmentTurn - 1e-9)));
+    return out;
 }
 
 // Places the points of one curve after another, sharing the domain points at curve ends.
@@ -105,13 +129,11 @@ public:
                     [&](double s) { return size_at(cuts[k], cuts[k + 1], param->param_at(sa + s)); },
                     rho_.min_size(), stations_left_);
                 stations_left_ -= profile.s.size();
-                std::vector<double> stations = graded_stations(profile, opt_.max_points ? opt_.max_points : SIZE_MAX);
-                const size_t fewest = fewest_segments(g, cuts[k], cuts[k + 1]);
-                if (stations.size() < fewest + 1) {
-                    // The density asks for sizes beyond what keeps the piece's shape: equal steps.
-                    stations.resize(fewest + 1);
-                    for (size_t i = 0; i <= fewest; ++i) stations[i] = len * static_cast<double>(i) / static_cast<double>(fewest);
-                }
+                std::vector<double> stations =
+                    keep_shape(graded_stations(profile, opt_.max_points ? opt_.max_points : SIZE_MAX), g, *param, sa,
+                               cuts[k], cuts[k + 1]);
+                // A closed curve without corners is a loop of its own points: three at least.
+                if (dc.from == dc.to && cuts.size() == 2 && stations.size() < 4) stations = {0.0, len / 3.0, 2.0 * len / 3.0, len};
                 for (size_t i = 1; i + 1 < stations.size(); ++i) {
                     const double t = param->param_at(sa + stations[i]);
                     out.push_back(add_vertex(g.point(t), c, t, size_at(cuts[k], cuts[k + 1], t)));
@@ -209,6 +231,21 @@ Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
                                 "\" cross near (" + std::to_string(at.x) + ", " + std::to_string(at.y) +
                                 "): the density is too coarse for the gap between them",
                             {Subject::curve(n1), Subject::curve(n2)});
+    }
+    // Simple polygons now; each must still run the way its loop does (outer counter-clockwise,
+    // holes clockwise), or the triangulation would take the outside for the domain.
+    for (size_t li = 0; li < d.loops.size(); ++li) {
+        const std::vector<VertexId>& cycle = d.loops[li];
+        double twice_area = 0.0;
+        for (size_t i = 0; i < cycle.size(); ++i) twice_area += cross(d.point(cycle[i]), d.point(cycle[(i + 1) % cycle.size()]));
+        const bool hole = domain.loops()[li].hole;
+        if (!(hole ? twice_area < 0.0 : twice_area > 0.0)) {
+            const std::string& name = domain.curves()[domain.loops()[li].items.front().curve].name;
+            throw GeometryError(GeometryErrorKind::DiscretisationCrosses,
+                                "the discretised loop of curve \"" + name +
+                                    "\" does not keep its shape: the density is too coarse for it",
+                                {Subject::curve(name)});
+        }
     }
     if (observer) observer->on_progress(Stage::Boundary, 1.0);
     return std::move(b).finish();

@@ -40,6 +40,11 @@ inline constexpr double kCornerAngle = 1e-6;
 /// this times the local radius of curvature, whatever the density asks, so that a coarse
 /// density keeps every curve's shape (a closed curve gets at least six segments).
 inline constexpr double kMaxSegmentTurn = 1.5707963267948966;  // 90 degrees
+/// The cap above holds where rho is sampled; a segment whose tangent still turns by more than
+/// this (a density jumping from sizes beyond the curve to fine ones next to a leading edge) is
+/// halved until none does. Set above kMaxSegmentTurn so that segments the cap sized (a
+/// little over 90 degrees between its samples) are left alone.
+inline constexpr double kMaxStepTurn = 2.356194490192345;  // 135 degrees
 
 /// Largest coordinate magnitude accepted (absolute). Exact predicates multiply up to four
 /// coordinates; this keeps every product far from overflow and underflow.
