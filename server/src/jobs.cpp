@@ -6,6 +6,7 @@
 #include <random>
 
 #include "meshd/api/writers.hpp"
+#include "meshd/core/errors.hpp"
 
 namespace meshd::server {
 
@@ -22,10 +23,14 @@ const char* to_string(JobStatus s) {
 
 namespace {
 
-// Progress and cancellation of one job, as the core sees them.
+// Progress, cancellation and the memory reservation of one job, as the core sees them.
 class JobObserver : public core::Observer {
 public:
-    JobObserver(Job& job, std::chrono::steady_clock::time_point deadline) : job_(job), deadline_(deadline) {}
+    JobObserver(JobManager& manager, Job& job, std::chrono::steady_clock::time_point deadline)
+        : manager_(manager), job_(job), deadline_(deadline) {}
+    ~JobObserver() override {
+        if (reserved_) manager_.release_memory(reserved_);
+    }
     void on_progress(core::Stage stage, double fraction) override {
         std::lock_guard<std::mutex> lock(job_.m);
         job_.stage = core::to_string(stage);
@@ -39,17 +44,30 @@ public:
         }
         return false;
     }
+    void on_forecast(double, std::size_t peak_bytes) override {
+        {
+            std::lock_guard<std::mutex> lock(job_.m);
+            job_.stage = "waiting for memory";
+        }
+        manager_.reserve_memory(peak_bytes, [this] { return should_stop(); });
+        reserved_ = peak_bytes;
+    }
     bool timed_out() const { return timed_out_; }
 
 private:
+    JobManager& manager_;
     Job& job_;
     std::chrono::steady_clock::time_point deadline_;
     bool timed_out_ = false;
+    size_t reserved_ = 0;
 };
+
+std::string megabytes(size_t bytes) { return std::to_string((bytes + (size_t{1} << 20) - 1) >> 20) + " MB"; }
 
 }  // namespace
 
 JobManager::JobManager(const Config& config, Metrics& metrics) : config_(config), metrics_(metrics) {
+    metrics_.set_memory(0, 0, config.memory_budget_bytes);
     for (int i = 0; i < config.workers; ++i) workers_.emplace_back([this] { work(); });
 }
 
@@ -70,8 +88,9 @@ std::string JobManager::new_id() {
     return id;
 }
 
-std::shared_ptr<Job> JobManager::submit(api::MeshRequest request) {
+std::shared_ptr<Job> JobManager::submit(api::MeshRequest request, double parse_s) {
     auto job = std::make_shared<Job>();
+    job->parse_s = parse_s;
     // The server's point limit, unless the request asks for fewer.
     const size_t cap = config_.max_points;
     size_t& asked = request.options.max_points;
@@ -199,17 +218,27 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
     }
     double limit = config_.job_timeout_s;
     if (job->request.timeout_s) limit = std::min(limit, *job->request.timeout_s);
-    JobObserver obs(*job, t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(limit)));
+    // The time the request took to read and parse is part of the limit.
+    const auto deadline =
+        t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(limit - job->parse_s));
+    {
+        std::lock_guard<std::mutex> lock(job->m);
+        job->deadline = deadline;
+    }
     std::shared_ptr<const core::MeshResult> result;
     std::optional<api::Problem> error;
     JobStatus status = JobStatus::Succeeded;
     if (job->cancel) {
         status = JobStatus::Cancelled;
     } else {
+        JobObserver obs(*this, *job, deadline);
         try {
             const api::MeshRequest& req = job->request;
             result = std::make_shared<const core::MeshResult>(
                 core::generate_mesh(req.geometry, req.density, req.options, &obs));
+        } catch (const JobRefused& refused) {
+            status = JobStatus::Failed;
+            error = refused.problem;
         } catch (...) {
             std::string log;
             api::Problem p = api::problem_of(std::current_exception(), &log);
@@ -257,6 +286,40 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
     spdlog::info("job {} {} points={} triangles={} time_ms={:.1f}{}", job->id, to_string(status),
                  result ? result->quality.points : 0, result ? result->quality.triangles : 0, secs * 1000.0,
                  error ? " problem=" + error->type : std::string());
+}
+
+void JobManager::reserve_memory(size_t bytes, const std::function<bool()>& stop) {
+    const size_t budget = config_.memory_budget_bytes;
+    if (bytes > budget)
+        throw JobRefused{api::Problem{413, "/v1/problems/memory-budget", "Mesh too large for this server",
+                                      "the mesh is forecast to need about " + megabytes(bytes) +
+                                          " while meshing, more than the server's budget of " + megabytes(budget) +
+                                          " (--memory-budget-mb): ask for fewer points",
+                                      "/density"}};
+    std::unique_lock<std::mutex> lock(memory_m_);
+    ++memory_waiting_;
+    metrics_.set_memory(memory_reserved_, memory_waiting_, budget);
+    // Jobs that finish wake the waiters; the periodic wake-up is for cancellation and time.
+    while (memory_reserved_ + bytes > budget) {
+        if (stop()) {
+            --memory_waiting_;
+            metrics_.set_memory(memory_reserved_, memory_waiting_, budget);
+            throw core::Cancelled();
+        }
+        memory_cv_.wait_for(lock, std::chrono::milliseconds(50));
+    }
+    --memory_waiting_;
+    memory_reserved_ += bytes;
+    metrics_.set_memory(memory_reserved_, memory_waiting_, budget);
+}
+
+void JobManager::release_memory(size_t bytes) {
+    {
+        std::lock_guard<std::mutex> lock(memory_m_);
+        memory_reserved_ -= bytes;
+        metrics_.set_memory(memory_reserved_, memory_waiting_, config_.memory_budget_bytes);
+    }
+    memory_cv_.notify_all();
 }
 
 void JobManager::release_result_locked(Job& job) {

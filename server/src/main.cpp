@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     spdlog::info("meshd listening on {}:{} with {} workers, queue {}", config.host, port, config.workers, config.queue_length);
+    if (service.probe_port() >= 0) spdlog::info("probes on {}:{} (/healthz, /livez, /readyz, /metrics)", config.host, service.probe_port());
     std::thread watcher([&] {
         while (g_signal == 0 && !(service.running() == false && g_signal != 0)) std::this_thread::sleep_for(std::chrono::milliseconds(50));
         spdlog::info("signal {} received", g_signal.load());

@@ -63,6 +63,13 @@ void Metrics::set_queue(size_t depth, size_t busy) {
     busy_ = busy;
 }
 
+void Metrics::set_memory(size_t reserved, size_t waiting, size_t budget) {
+    std::lock_guard<std::mutex> lock(m_);
+    memory_reserved_ = reserved;
+    memory_waiting_ = waiting;
+    memory_budget_ = budget;
+}
+
 std::string Metrics::render() const {
     std::lock_guard<std::mutex> lock(m_);
     std::string o;
@@ -82,6 +89,12 @@ std::string Metrics::render() const {
     o += "# HELP meshd_workers_busy Workers meshing now.\n# TYPE meshd_workers_busy gauge\nmeshd_workers_busy " + std::to_string(busy_) + "\n";
     o += "# HELP meshd_jobs_kept Job records held (queued, running, finished and still answerable).\n"
          "# TYPE meshd_jobs_kept gauge\nmeshd_jobs_kept " + std::to_string(jobs_kept_) + "\n";
+    o += "# HELP meshd_memory_reserved_bytes Memory reserved by running jobs (their forecast peaks).\n"
+         "# TYPE meshd_memory_reserved_bytes gauge\nmeshd_memory_reserved_bytes " + std::to_string(memory_reserved_) + "\n";
+    o += "# HELP meshd_memory_budget_bytes Memory running jobs may reserve together.\n"
+         "# TYPE meshd_memory_budget_bytes gauge\nmeshd_memory_budget_bytes " + std::to_string(memory_budget_) + "\n";
+    o += "# HELP meshd_jobs_waiting_for_memory Jobs started but waiting for their memory.\n"
+         "# TYPE meshd_jobs_waiting_for_memory gauge\nmeshd_jobs_waiting_for_memory " + std::to_string(memory_waiting_) + "\n";
     o += "# HELP meshd_points_total Points of all meshes made.\n# TYPE meshd_points_total counter\nmeshd_points_total " + std::to_string(points_) + "\n";
     o += "# HELP meshd_triangles_total Triangles of all meshes made.\n# TYPE meshd_triangles_total counter\nmeshd_triangles_total " + std::to_string(triangles_) + "\n";
     return o;

@@ -14,6 +14,7 @@
 #include "meshd/api/problem.hpp"
 #include "meshd/api/request.hpp"
 #include "meshd/api/writers.hpp"
+#include "peer.hpp"
 
 namespace meshd::server {
 
@@ -62,7 +63,10 @@ std::string route_of(const std::string& path) {
 // Streams what a writer puts in an ostream into the HTTP response, in 64 KiB chunks.
 class SinkBuf : public std::streambuf {
 public:
-    explicit SinkBuf(httplib::DataSink& sink) : sink_(sink), buf_(1 << 16) { setp(buf_.data(), buf_.data() + buf_.size()); }
+    SinkBuf(httplib::DataSink& sink, std::chrono::steady_clock::time_point until)
+        : sink_(sink), until_(until), buf_(1 << 16) {
+        setp(buf_.data(), buf_.data() + buf_.size());
+    }
     ~SinkBuf() override { sync(); }
     bool ok() const { return ok_; }
 
@@ -77,25 +81,35 @@ protected:
     }
     int sync() override {
         const auto n = static_cast<size_t>(pptr() - pbase());
-        if (n > 0 && ok_) ok_ = sink_.write(pbase(), n);
+        if (n > 0 && ok_) ok_ = std::chrono::steady_clock::now() <= until_ && sink_.write(pbase(), n);
         setp(buf_.data(), buf_.data() + buf_.size());
         return ok_ ? 0 : -1;
     }
 
 private:
     httplib::DataSink& sink_;
+    std::chrono::steady_clock::time_point until_;
     std::vector<char> buf_;
     bool ok_ = true;
 };
 
-void send_mesh(httplib::Response& res, std::shared_ptr<const core::MeshResult> result, api::Format f) {
+// Streams the mesh; past `until` the connection is dropped (the answer is incomplete: a
+// client that reads too slowly cannot hold a thread and the mesh beyond the time limit).
+void send_mesh(httplib::Response& res, std::shared_ptr<const core::MeshResult> result, api::Format f,
+               std::chrono::steady_clock::time_point until) {
     res.status = 200;
-    res.set_chunked_content_provider(api::content_type(f), [result, f](size_t, httplib::DataSink& sink) {
+    res.set_chunked_content_provider(api::content_type(f), [result, f, until](size_t, httplib::DataSink& sink) {
+        bool ok = true;
         {
-            SinkBuf buf(sink);
+            SinkBuf buf(sink, until);
             std::ostream os(&buf);
             api::write_mesh(f, *result, os);
             os.flush();
+            ok = buf.ok();
+        }
+        if (!ok) {
+            spdlog::warn("answer not finished within the time limit (or the client left): connection dropped");
+            return false;
         }
         sink.done();
         return true;
@@ -114,17 +128,31 @@ std::optional<api::Format> format_of(const httplib::Request& req, httplib::Respo
 // The body of a POST, read as it arrives and refused (413) past `limit`. A plain handler gets
 // a chunked body whole, past cpp-httplib's payload limit (which it checks against
 // Content-Length); read through the content reader, chunked bodies are held to it too.
-std::optional<std::string> read_body(const httplib::ContentReader& reader, size_t limit, httplib::Response& res) {
+// A body still arriving at `until` is refused (408): a client that trickles it cannot hold a
+// thread beyond the server's time limit.
+std::optional<std::string> read_body(const httplib::ContentReader& reader, size_t limit,
+                                     std::chrono::steady_clock::time_point until, httplib::Response& res) {
     std::string body;
-    bool too_large = false;
+    bool too_large = false, too_slow = false;
     const bool ok = reader([&](const char* data, size_t n) {
         if (body.size() + n > limit) {
             too_large = true;
             return false;
         }
+        if (std::chrono::steady_clock::now() > until) {
+            too_slow = true;
+            return false;
+        }
         body.append(data, n);
         return true;
     });
+    // The rest of an unread body must not be taken for the next request.
+    if (too_slow || too_large || !ok) res.set_header("Connection", "close");
+    if (too_slow) {
+        send_problem(res, problem(408, "request-timeout", "Request timeout",
+                                  "the body did not arrive within the server's time limit"));
+        return std::nullopt;
+    }
     // A Content-Length over the limit fails the read with cpp-httplib's own 413.
     if (too_large || (!ok && res.status == 413)) {
         send_problem(res, problem(413, "body-too-large", "Request too large", "the body exceeds the server's limit"));
@@ -170,18 +198,37 @@ Service::Service(Config config) : config_(std::move(config)) {
     jobs_ = std::make_unique<JobManager>(config_, metrics_);
     http_ = std::make_unique<httplib::Server>();
     install();
+    if (config_.probe_port >= 0) {
+        probe_ = std::make_unique<httplib::Server>();
+        probe_->new_task_queue = [] { return new httplib::ThreadPool(2); };
+        probe_->set_read_timeout(5, 0);
+        probe_->set_write_timeout(5, 0);
+        probe_->set_logger([](const httplib::Request& req, const httplib::Response& res) {
+            spdlog::debug("probe {} {} {}", req.method, req.path, res.status);
+        });
+        install_probes(*probe_, false);
+    }
 }
 
 Service::~Service() {
     stop();
+    if (probe_thread_.joinable()) probe_thread_.join();
 }
 
 int Service::bind() {
+    if (config_.probe_port >= 0) {
+        probe_port_ = config_.probe_port == 0 ? probe_->bind_to_any_port(config_.host)
+                      : probe_->bind_to_port(config_.host, config_.probe_port) ? config_.probe_port : -1;
+        if (probe_port_ < 0) return -1;
+    }
     if (config_.port == 0) return http_->bind_to_any_port(config_.host);
     return http_->bind_to_port(config_.host, config_.port) ? config_.port : -1;
 }
 
-bool Service::listen() { return http_->listen_after_bind(); }
+bool Service::listen() {
+    if (probe_port_ >= 0) probe_thread_ = std::thread([this] { probe_->listen_after_bind(); });
+    return http_->listen_after_bind();
+}
 bool Service::running() const { return http_->is_running(); }
 
 void Service::drain() {
@@ -190,10 +237,46 @@ void Service::drain() {
     jobs_->drain(std::chrono::duration<double>(config_.drain_s));
     spdlog::info("drained; stopping");
     http_->stop();
+    if (probe_) probe_->stop();
 }
 
 void Service::stop() {
     if (http_) http_->stop();
+    if (probe_) probe_->stop();
+}
+
+// /healthz, /livez, /readyz and /metrics: on the main server (`document`: listed in the
+// OpenAPI document) and on the probe server, whose threads meshing and slow clients cannot
+// hold.
+void Service::install_probes(httplib::Server& s, bool document) {
+    auto add = [&](const char* method, const char* path) {
+        if (document) routes_.push_back({method, path});
+    };
+    auto health = [](const httplib::Request&, httplib::Response& res) {
+        res.set_content(R"({"status":"ok"})", "application/json");
+    };
+    add("get", "/healthz");
+    s.Get("/healthz", health);
+    add("get", "/livez");
+    s.Get("/livez", health);
+
+    // Whether this replica takes traffic: not while it drains. A full queue is not a reason
+    // (the 429 with Retry-After is the answer then; taking every replica out of the Service
+    // at once under load would turn that into connection errors).
+    add("get", "/readyz");
+    s.Get("/readyz", [this](const httplib::Request&, httplib::Response& res) {
+        if (jobs_->draining() || draining_) {
+            res.set_header("Retry-After", "5");
+            return send_problem(res, problem(503, "draining", "Not ready", "the server is draining"));
+        }
+        res.set_content(R"({"status":"ready"})", "application/json");
+    });
+
+    add("get", "/metrics");
+    s.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
+        metrics_.set_queue(jobs_->queued(), jobs_->busy());
+        res.set_content(metrics_.render(), "text/plain; version=0.0.4; charset=utf-8");
+    });
 }
 
 void Service::install() {
@@ -239,14 +322,22 @@ void Service::install() {
         send_problem(res, problem(500, "internal", "Internal error", "meshd failed on this request (a bug): " + what));
     });
 
-    // The request of a POST, parsed, or the problem sent.
+    // The request of a POST, parsed, with the seconds that took (they count in its time
+    // limit), or the problem sent.
+    struct Parsed {
+        api::MeshRequest request;
+        double seconds;
+    };
     auto parse = [this](const httplib::Request& req, httplib::Response& res,
-                        const httplib::ContentReader& reader) -> std::optional<api::MeshRequest> {
+                        const httplib::ContentReader& reader) -> std::optional<Parsed> {
         if (!json_body(req, res)) return std::nullopt;
-        const std::optional<std::string> body = read_body(reader, config_.max_body_bytes, res);
+        const auto limit = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(config_.job_timeout_s));
+        const std::optional<std::string> body = read_body(reader, config_.max_body_bytes, request_start + limit, res);
         if (!body) return std::nullopt;
         try {
-            return api::parse_request(*body);
+            api::MeshRequest mr = api::parse_request(*body);
+            return Parsed{std::move(mr), std::chrono::duration<double>(std::chrono::steady_clock::now() - request_start).count()};
         } catch (const api::RequestError& e) {
             send_problem(res, e.problem());
             return std::nullopt;
@@ -269,19 +360,33 @@ void Service::install() {
                                                      const httplib::ContentReader& reader) {
         const auto f = format_of(req, res);
         if (!f) return;
-        auto mr = parse(req, res, reader);
-        if (!mr) return;
-        auto job = jobs_->submit(std::move(*mr));
+        auto parsed = parse(req, res, reader);
+        if (!parsed) return;
+        auto job = jobs_->submit(std::move(parsed->request), parsed->seconds);
         if (!job) return refuse_busy(res);
+        // Wait for the job, and cancel it if the client goes away meanwhile.
+        const int socket = connection_socket(req);
+        bool client_gone = false;
         std::unique_lock<std::mutex> lock(job->m);
-        job->done_cv.wait(lock, [&] { return job->finished_locked(); });
+        while (!job->done_cv.wait_for(lock, std::chrono::milliseconds(100), [&] { return job->finished_locked(); })) {
+            if (client_gone || socket < 0 || !peer_closed(socket)) continue;
+            client_gone = true;
+            lock.unlock();
+            spdlog::info("job {}: the client closed the connection; cancelling", job->id);
+            jobs_->cancel(job->id);
+            lock.lock();
+        }
         const JobStatus status = job->status;
         auto result = job->result;  // the answer holds the mesh while it streams
         const std::optional<api::Problem> error = job->error;
+        const auto deadline = job->deadline;
         lock.unlock();
         jobs_->forget(job);  // nobody asks for a synchronous job again
-        if (status == JobStatus::Succeeded)
-            send_mesh(res, std::move(result), *f);
+        if (client_gone)
+            send_problem(res, problem(499, "client-closed-request", "Client closed request",
+                                      "the client closed the connection before the answer; the job was cancelled"));
+        else if (status == JobStatus::Succeeded)
+            send_mesh(res, std::move(result), *f, deadline);
         else if (status == JobStatus::Failed)
             send_problem(res, *error);
         else
@@ -292,9 +397,9 @@ void Service::install() {
     add("post", "/v1/jobs");
     s.Post("/v1/jobs", [this, parse, refuse_busy](const httplib::Request& req, httplib::Response& res,
                                                    const httplib::ContentReader& reader) {
-        auto mr = parse(req, res, reader);
-        if (!mr) return;
-        auto job = jobs_->submit(std::move(*mr));
+        auto parsed = parse(req, res, reader);
+        if (!parsed) return;
+        auto job = jobs_->submit(std::move(parsed->request), parsed->seconds);
         if (!job) return refuse_busy(res);
         res.status = 202;
         res.set_header("Location", "/v1/jobs/" + job->id);
@@ -336,7 +441,9 @@ void Service::install() {
         if (!job->result) return send_problem(res, problem(410, "expired", "Gone", "the mesh has expired; submit the request again"));
         auto result = job->result;
         lock.unlock();
-        send_mesh(res, std::move(result), *f);
+        send_mesh(res, std::move(result), *f,
+                  std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                         std::chrono::duration<double>(config_.job_timeout_s)));
     });
 
     add("delete", "/v1/jobs/{id}");
@@ -349,32 +456,7 @@ void Service::install() {
         res.set_content(j.dump(), "application/json");
     });
 
-    auto health = [](const httplib::Request&, httplib::Response& res) {
-        res.set_content(R"({"status":"ok"})", "application/json");
-    };
-    add("get", "/healthz");
-    s.Get("/healthz", health);
-    add("get", "/livez");
-    s.Get("/livez", health);
-
-    add("get", "/readyz");
-    s.Get("/readyz", [this](const httplib::Request&, httplib::Response& res) {
-        if (jobs_->draining() || draining_) {
-            res.set_header("Retry-After", "5");
-            return send_problem(res, problem(503, "draining", "Not ready", "the server is draining"));
-        }
-        if (jobs_->full()) {
-            res.set_header("Retry-After", "1");
-            return send_problem(res, problem(503, "queue-full", "Not ready", "the job queue is full"));
-        }
-        res.set_content(R"({"status":"ready"})", "application/json");
-    });
-
-    add("get", "/metrics");
-    s.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
-        metrics_.set_queue(jobs_->queued(), jobs_->busy());
-        res.set_content(metrics_.render(), "text/plain; version=0.0.4; charset=utf-8");
-    });
+    install_probes(s, true);
 
     add("get", "/v1/openapi.json");
     s.Get("/v1/openapi.json", [doc = openapi()](const httplib::Request&, httplib::Response& res) {

@@ -73,6 +73,23 @@ public:
     }
 
     int port() const { return port_; }
+
+    /// The probe listener's port (started with --probe-port 0), from its log line; 0 when
+    /// there is none.
+    int probe_port() {
+        for (int i = 0; i < 1000; ++i) {
+            {
+                std::lock_guard<std::mutex> lock(m_);
+                const auto p = log_.find("probes on 127.0.0.1:");
+                if (p != std::string::npos) {
+                    const auto e = log_.find(' ', p + 20);
+                    if (e != std::string::npos) return std::stoi(log_.substr(p + 20, e - p - 20));
+                }
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        return 0;
+    }
     void signal(int sig) { kill(pid_, sig); }
 
     /// Waits for the process to end; its exit status, or -1 on timeout.

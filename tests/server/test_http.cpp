@@ -12,6 +12,11 @@
 
 #include "server_process.hpp"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+
 using json = nlohmann::ordered_json;
 using meshd::test::ServerProcess;
 
@@ -53,6 +58,68 @@ json wait_for_job(httplib::Client& c, const std::string& id, double seconds = 60
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     return j;
+}
+
+// A client on a raw socket: sends what it is given, and can leave at any moment.
+class RawConnection {
+public:
+    explicit RawConnection(int port) {
+        fd_ = socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in a{};
+        a.sin_family = AF_INET;
+        a.sin_port = htons(static_cast<std::uint16_t>(port));
+        a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        if (connect(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) ADD_FAILURE() << "connect";
+    }
+    ~RawConnection() { close(); }
+    void send_text(const std::string& text) {
+        for (size_t done = 0; done < text.size();) {
+            const ssize_t n = ::send(fd_, text.data() + done, text.size() - done, MSG_NOSIGNAL);
+            if (n <= 0) return;
+            done += static_cast<size_t>(n);
+        }
+    }
+    /// Whether an answer is there to read within `ms` milliseconds.
+    bool answered(int ms) {
+        pollfd p{fd_, POLLIN, 0};
+        return poll(&p, 1, ms) > 0;
+    }
+    std::string read_some() {
+        char buf[4096];
+        const ssize_t n = recv(fd_, buf, sizeof buf, 0);
+        return n > 0 ? std::string(buf, static_cast<size_t>(n)) : std::string();
+    }
+    void close() {
+        if (fd_ >= 0) ::close(fd_);
+        fd_ = -1;
+    }
+
+private:
+    int fd_ = -1;
+};
+
+std::string post_head(const std::string& path, size_t length) {
+    return "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: " +
+           std::to_string(length) + "\r\n\r\n";
+}
+
+// One series of a Prometheus text page ("name" or "name{labels}"); -1 when absent.
+double series(const std::string& page, const std::string& name) {
+    std::istringstream in(page);
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind(name + " ", 0) == 0) return std::stod(line.substr(name.size() + 1));
+    return -1;
+}
+
+// Polls until `done` holds, at most `seconds` (a bound for failures, not a timing).
+template <class F>
+bool eventually(F&& done, double seconds = 120) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < until) {
+        if (done()) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
 }
 
 std::string cli_output(const std::string& format) {
@@ -241,9 +308,11 @@ TEST(Http, QueueFullAnswers429WithRetryAfter) {
     }
     EXPECT_EQ(ids.size(), 2u);  // one running, one waiting
     EXPECT_EQ(refused, 2);
+    // A full queue does not take the replica out of service (API.md): readiness is about
+    // draining and the store, and clients get the 429 above instead of connection errors.
     auto ready = c.Get("/readyz");
     ASSERT_TRUE(ready);
-    EXPECT_EQ(ready->status, 503);
+    EXPECT_EQ(ready->status, 200);
     // Cancel the waiting job first: it is cancelled at once, before it ever runs.
     auto del = c.Delete(("/v1/jobs/" + ids[1]).c_str());
     ASSERT_TRUE(del);
@@ -473,4 +542,99 @@ TEST(Http, JobsEvictedForMemoryStillLeaveTheTable) {
         ASSERT_EQ(wait_for_job(c, json::parse(r->body)["id"])["status"], "succeeded");
     }
     EXPECT_EQ(gauge(c, "meshd_jobs_kept"), 3);
+}
+
+// With every HTTP thread of the main port held by a synchronous request, the probe port still
+// answers; and a synchronous request whose client leaves has its job cancelled (its two
+// meshes would take many seconds: here they end as soon as the clients close).
+TEST(Http, ProbesAnswerWhileEveryHttpThreadWaitsAndLeavingClientsCancelTheirJobs) {
+    ServerProcess s({"--workers", "2", "--http-threads", "2", "--probe-port", "0"});
+    ASSERT_GT(s.probe_port(), 0);
+    httplib::Client probe("127.0.0.1", s.probe_port());
+    auto page = [&] {
+        auto r = probe.Get("/metrics");
+        return r && r->status == 200 ? r->body : std::string();
+    };
+    const std::string body = slow_request(0.0007);
+    RawConnection a(s.port()), b(s.port());
+    a.send_text(post_head("/v1/meshes", body.size()) + body);
+    b.send_text(post_head("/v1/meshes", body.size()) + body);
+    // Both HTTP threads now wait in their requests, whose jobs run.
+    ASSERT_TRUE(eventually([&] { return series(page(), "meshd_workers_busy") == 2; })) << s.log();
+    for (const char* path : {"/healthz", "/livez", "/readyz"}) {
+        auto r = probe.Get(path);
+        ASSERT_TRUE(r) << path;
+        EXPECT_EQ(r->status, 200) << path;
+    }
+    a.close();
+    b.close();
+    ASSERT_TRUE(eventually([&] { return series(page(), "meshd_jobs_total{status=\"cancelled\"}") == 2; })) << s.log();
+    const std::string last = page();
+    EXPECT_EQ(series(last, "meshd_jobs_total{status=\"succeeded\"}"), 0);
+    EXPECT_EQ(series(last, "meshd_workers_busy"), 0);
+    EXPECT_NE(s.log().find("the client closed the connection; cancelling"), std::string::npos);
+}
+
+// Running jobs share --memory-budget-mb by their forecast peaks: one larger than the budget is
+// refused at once; one that does not fit beside a running job waits for it.
+TEST(Http, JobsWaitForMemoryAndOneThatNeverFitsIs413) {
+    ServerProcess s({"--workers", "2", "--memory-budget-mb", "400"});
+    auto c = client(s);
+    // About 2.3 million points: 16 MiB + 256 B per point is 600 MB, beyond 400.
+    auto big = c.Post("/v1/meshes", slow_request(0.0007), "application/json");
+    ASSERT_TRUE(big);
+    EXPECT_EQ(big->status, 413) << big->body;
+    const json problem = json::parse(big->body);
+    EXPECT_EQ(problem["type"], "/v1/problems/memory-budget");
+    EXPECT_EQ(problem["pointer"], "/density");
+
+    // About 1.15 million points each (311 MB): one fits, two do not.
+    auto stage_of = [&](const std::string& id) {
+        auto r = c.Get(("/v1/jobs/" + id).c_str());
+        return r && r->status == 200 ? json::parse(r->body)["stage"].get<std::string>() : std::string("?");
+    };
+    auto first = c.Post("/v1/jobs", slow_request(0.001), "application/json");
+    ASSERT_EQ(first->status, 202);
+    const std::string id1 = json::parse(first->body)["id"];
+    // The first job has reserved its memory (its stage says "boundary" before it asks).
+    auto reserved = [&] {
+        auto r = c.Get("/metrics");
+        return r ? series(r->body, "meshd_memory_reserved_bytes") : -1.0;
+    };
+    ASSERT_TRUE(eventually([&] { return reserved() > 0; }));
+    auto second = c.Post("/v1/jobs", slow_request(0.001), "application/json");
+    ASSERT_EQ(second->status, 202);
+    const std::string id2 = json::parse(second->body)["id"];
+    ASSERT_TRUE(eventually([&] { return stage_of(id2) == "waiting for memory"; }));
+    auto m = c.Get("/metrics");
+    ASSERT_TRUE(m);
+    EXPECT_EQ(series(m->body, "meshd_jobs_waiting_for_memory"), 1);
+    EXPECT_GT(series(m->body, "meshd_memory_reserved_bytes"), 256.0 * 1e6);
+    EXPECT_LE(series(m->body, "meshd_memory_reserved_bytes"), 400.0 * 1048576);
+    // The first job leaves: the second gets its memory and runs.
+    c.Delete(("/v1/jobs/" + id1).c_str());
+    ASSERT_TRUE(eventually([&] {
+        const std::string st = stage_of(id2);
+        return st != "waiting for memory" && st != "?";
+    }));
+    c.Delete(("/v1/jobs/" + id2).c_str());
+    EXPECT_EQ(wait_for_job(c, id1)["status"], "cancelled");
+    EXPECT_EQ(wait_for_job(c, id2)["status"], "cancelled");
+}
+
+// A body that arrives too slowly is refused once the server's time limit has passed: 408.
+TEST(Http, ABodyTrickledPastTheTimeLimitIs408) {
+    ServerProcess s({"--job-timeout-s", "0.2"});
+    const std::string body = slow_request(0.01);
+    RawConnection conn(s.port());
+    conn.send_text(post_head("/v1/meshes", body.size()));
+    size_t sent = 0;
+    while (sent < body.size() && !conn.answered(20)) conn.send_text(body.substr(sent++, 1));
+    ASSERT_LT(sent, body.size()) << "the whole body was taken";
+    std::string answer = conn.read_some();
+    for (int i = 0; i < 10 && answer.find("}") == std::string::npos && conn.answered(5000); ++i) answer += conn.read_some();
+    EXPECT_EQ(answer.rfind("HTTP/1.1 408", 0), 0u) << answer;
+    // The rest of the body is not read: the connection does not stay open for it.
+    EXPECT_NE(answer.find("Connection: close"), std::string::npos) << answer;
+    EXPECT_NE(answer.find("/v1/problems/request-timeout"), std::string::npos) << answer;
 }

@@ -47,7 +47,7 @@ struct InteriorOptions {
 inline constexpr size_t kMaxPointsLimit = size_t{1} << 28;
 
 /// The peak memory of generate_mesh for a mesh of `points` points: a fixed part and a part
-/// per point, measured on uniform squares of 0.29, 1.2 and 4.6 million points (207 to 215
+/// per point, measured on uniform squares of 0.29, 1.2 and 4.6 million points (205 to 207
 /// bytes per point, docs/benchmarks.md) and rounded up; the caller's copy of the result
 /// (MeshResult) is included, a writer's output is not.
 inline constexpr size_t kPeakBytesBase = size_t{16} << 20;

@@ -13,12 +13,18 @@ struct Config {
     int port = 8080;                      ///< --port, MESHD_PORT (0: any free port)
     int workers = 2;                      ///< --workers, MESHD_WORKERS: meshing threads
     int http_threads = 16;                ///< --http-threads, MESHD_HTTP_THREADS
+    /// --probe-port, MESHD_PROBE_PORT: a second listener for /healthz, /livez, /readyz and
+    /// /metrics with threads of its own (0: any free port; -1: none).
+    int probe_port = -1;
     size_t queue_length = 16;             ///< --queue, MESHD_QUEUE: jobs waiting for a worker
     size_t max_body_bytes = 32u << 20;    ///< --max-body-mb, MESHD_MAX_BODY_MB
     size_t max_points = 5'000'000;        ///< --max-points, MESHD_MAX_POINTS: per job
     double job_timeout_s = 300;           ///< --job-timeout-s, MESHD_JOB_TIMEOUT_S: wall time per job
     double job_ttl_s = 900;               ///< --job-ttl-s, MESHD_JOB_TTL_S: finished jobs kept this long
     size_t result_memory_bytes = 1u << 30;///< --result-memory-mb, MESHD_RESULT_MEMORY_MB
+    /// --memory-budget-mb, MESHD_MEMORY_BUDGET_MB: the forecast peaks of running jobs together
+    /// (core::peak_bytes_for); a job waits until its own fits, one that never fits gets 413.
+    size_t memory_budget_bytes = size_t{1536} << 20;
     size_t max_finished_jobs = 10000;     ///< --max-finished-jobs, MESHD_MAX_FINISHED_JOBS: records kept, oldest dropped first
     double drain_s = 30;                  ///< --drain-s, MESHD_DRAIN_S: grace on SIGTERM
     std::string log_level = "info";       ///< --log-level, MESHD_LOG_LEVEL

@@ -3,6 +3,13 @@
 /// Jobs get unguessable ids, can be cancelled while queued or running (a running job stops at
 /// the core's next check, well within a second), expire some time after they finish, and
 /// their results share a memory budget (the oldest finished results are dropped first).
+///
+/// Running jobs share a second budget, for the memory meshing takes: once the core has
+/// forecast a job's size (before any stage), the job reserves its peak (core::peak_bytes_for)
+/// and waits until it fits beside the others; a job whose peak exceeds the whole budget fails
+/// with 413. A job's time limit counts the reading and parsing of its request, its run
+/// (validation included) and, for a synchronous request, the writing of the answer; not the
+/// time it waited in the queue.
 
 #include <atomic>
 #include <chrono>
@@ -28,6 +35,11 @@
 namespace meshd::server {
 
 enum class JobStatus { Queued, Running, Succeeded, Failed, Cancelled };
+
+/// Thrown through the core by a job's observer to end the job with this problem.
+struct JobRefused {
+    api::Problem problem;
+};
 const char* to_string(JobStatus s);
 
 struct Job {
@@ -36,6 +48,8 @@ struct Job {
     api::MeshRequest request;
     /// The point limit in force is the server's, not one the request asked for.
     bool server_point_limit = false;
+    /// Seconds spent reading and parsing the request: counted in the job's time limit.
+    double parse_s = 0.0;
     std::chrono::system_clock::time_point submitted, started, finished;
 
     // Written by the worker, read by HTTP threads: under `m`.
@@ -50,6 +64,8 @@ struct Job {
     std::optional<api::Problem> error;
     bool expired = false;  ///< result dropped (memory or age); the job record remains a while
     size_t result_bytes = 0;
+    /// When the job's time limit ends (set as it starts to run).
+    std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 
     std::atomic<bool> cancel{false};
 
@@ -64,7 +80,8 @@ public:
     ~JobManager();
 
     /// Queues the request; nullptr when the queue is full or the manager is draining.
-    std::shared_ptr<Job> submit(api::MeshRequest request);
+    /// `parse_s`: the time its reading and parsing took, counted in its limit.
+    std::shared_ptr<Job> submit(api::MeshRequest request, double parse_s = 0.0);
     /// The job, or nullptr (unknown or forgotten).
     std::shared_ptr<Job> find(const std::string& id);
     /// Asks the job to stop; false when unknown.
@@ -81,6 +98,12 @@ public:
     /// Stops taking jobs; waits up to `grace` for queued and running jobs to end, then
     /// cancels what is left and joins the workers.
     void drain(std::chrono::duration<double> grace);
+
+    /// Waits until `bytes` fit in the memory budget beside the running jobs and reserves them;
+    /// `stop` is asked while waiting (Cancelled when it says so). Throws JobRefused (413) when
+    /// `bytes` exceed the whole budget.
+    void reserve_memory(size_t bytes, const std::function<bool()>& stop);
+    void release_memory(size_t bytes);
 
 private:
     void work();
@@ -102,6 +125,10 @@ private:
     bool stop_ = false;
     std::atomic<bool> draining_{false};
     std::vector<std::thread> workers_;
+
+    std::mutex memory_m_;
+    std::condition_variable memory_cv_;
+    size_t memory_reserved_ = 0, memory_waiting_ = 0;
 };
 
 }  // namespace meshd::server

@@ -30,6 +30,9 @@ public:
     void set_queue(size_t depth, size_t busy);
     /// Job records held: queued, running and finished ones still answerable.
     void set_jobs_kept(size_t kept);
+    /// Memory reserved by running jobs (their forecast peaks), jobs waiting for it, and the
+    /// budget.
+    void set_memory(size_t reserved, size_t waiting, size_t budget);
 
     std::string render() const;
 
@@ -41,6 +44,7 @@ private:
     Histogram job_seconds_{{0.01, 0.05, 0.1, 0.5, 1, 5, 10, 30, 60, 300}};
     std::uint64_t points_ = 0, triangles_ = 0;
     size_t queue_depth_ = 0, busy_ = 0, jobs_kept_ = 0;
+    size_t memory_reserved_ = 0, memory_waiting_ = 0, memory_budget_ = 0;
 };
 
 }  // namespace meshd::server

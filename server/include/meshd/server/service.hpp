@@ -6,6 +6,7 @@
 #include <atomic>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "meshd/server/config.hpp"
@@ -28,8 +29,11 @@ public:
     explicit Service(Config config);
     ~Service();
 
-    /// Binds (port 0: any free port) and returns the port; -1 on failure.
+    /// Binds (port 0: any free port) and returns the port; -1 on failure. Binds the probe
+    /// listener too when the config asks for one.
     int bind();
+    /// The probe listener's port once bound; -1 without one.
+    int probe_port() const { return probe_port_; }
     /// Serves until stop(); blocks.
     bool listen();
     bool running() const;
@@ -44,11 +48,15 @@ public:
 
 private:
     void install();
+    void install_probes(httplib::Server& s, bool document);
 
     Config config_;
     Metrics metrics_;
     std::unique_ptr<JobManager> jobs_;
     std::unique_ptr<httplib::Server> http_;
+    std::unique_ptr<httplib::Server> probe_;
+    std::thread probe_thread_;
+    int probe_port_ = -1;
     std::vector<Route> routes_;
     std::atomic<bool> draining_{false};
 };
