@@ -285,7 +285,7 @@ void Service::install() {
     s.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<size_t>(threads)); };
     s.set_payload_max_length(config_.max_body_bytes);
     s.set_read_timeout(30, 0);
-    s.set_write_timeout(60, 0);
+    s.set_write_timeout(15, 0);  // a client that cannot take 64 KiB in 15 s holds a thread no longer
     s.set_keep_alive_max_count(1000);
 
     auto add = [&](const char* method, const char* path) { routes_.push_back({method, path}); };

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -167,6 +168,7 @@ TEST(RandomDomains, EveryMeshIsValidOrTheRequestIsRefusedClearly) {
     std::uint64_t seeds = 1000;
     if (const char* s = std::getenv("MESHD_RANDOM_DOMAINS")) seeds = std::strtoull(s, nullptr, 10);
     std::uint64_t meshed = 0, refused = 0;
+    std::vector<double> ratios;
     for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
         const RandomCase rc = random_case(seed);
         MeshOptions o;
@@ -179,6 +181,9 @@ TEST(RandomDomains, EveryMeshIsValidOrTheRequestIsRefusedClearly) {
             const auto broken = check_mesh(r.mesh, o.smoothing_iterations == 0 && o.min_angle_deg == 0.0);
             if (!broken.empty()) ADD_FAILURE() << "seed " << seed << " (" << rc.summary << "): " << broken.front();
             ++meshed;
+            // The admission forecast against the mesh (refinement for min_angle_deg adds
+            // points the forecast does not count).
+            if (o.min_angle_deg == 0.0) ratios.push_back(r.stats.forecast_points / static_cast<double>(r.quality.points));
         } catch (const GeometryError& e) {
             ++refused;
             std::printf("[ seed %llu ] refused: %s (%s)\n", static_cast<unsigned long long>(seed), e.what(),
@@ -189,6 +194,15 @@ TEST(RandomDomains, EveryMeshIsValidOrTheRequestIsRefusedClearly) {
     }
     std::printf("[ random domains ] %llu meshed, %llu refused\n", static_cast<unsigned long long>(meshed),
                 static_cast<unsigned long long>(refused));
+    // How close the forecast came: its purpose is to refuse what is far too large before any
+    // work (the stages count exactly), so a factor of two either way is the bound that matters.
+    std::sort(ratios.begin(), ratios.end());
+    ASSERT_FALSE(ratios.empty());
+    auto at = [&](double q) { return ratios[static_cast<size_t>(q * static_cast<double>(ratios.size() - 1))]; };
+    std::printf("[ random domains ] forecast / points over %zu meshes: min %.3f, 5%% %.3f, median %.3f, 95%% %.3f, max %.3f\n",
+                ratios.size(), ratios.front(), at(0.05), at(0.5), at(0.95), ratios.back());
+    EXPECT_GT(ratios.front(), 0.5);
+    EXPECT_LT(ratios.back(), 2.0);
     // The generator makes valid domains with fitting densities: refusals are the exception.
     EXPECT_GE(meshed, seeds * 9 / 10);
 }
