@@ -106,6 +106,19 @@ std::string encode_result(const core::MeshResult& r) {
     w.u64(m.tags.size());
     for (const std::string& t : m.tags) w.str(t);
     w.u64(m.holes);
+    w.u64(m.curve_ends.size());
+    for (const auto& ends : m.curve_ends) {
+        w.u32(ends[0]);
+        w.u32(ends[1]);
+    }
+    w.u64(m.loops.size());
+    for (const auto& loop : m.loops) {
+        w.u64(loop.size());
+        for (const core::Mesh::LoopCurve& u : loop) {
+            w.u32(u.curve);
+            w.u8(u.reversed ? 1 : 0);
+        }
+    }
 
     const core::QualityMetrics& q = r.quality;
     for (size_t v : {q.points, q.boundary_points, q.interior_points, q.triangles}) w.u64(v);
@@ -177,6 +190,22 @@ core::MeshResult decode_result(std::string_view bytes) {
     for (const core::MeshEdge& e : m.edges)
         if (e.tag >= m.tags.size()) throw StoredResultError("stored result: an edge names a tag it does not hold");
     m.holes = static_cast<size_t>(rd.u64());
+    m.curve_ends.resize(rd.count(8));
+    for (auto& ends : m.curve_ends) {
+        for (auto& v : ends) {
+            v = rd.u32();
+            if (v != core::kNoVertex && v >= np) throw StoredResultError("stored result: a curve ends at a point it does not hold");
+        }
+    }
+    m.loops.resize(rd.count(8));
+    for (auto& loop : m.loops) {
+        loop.resize(rd.count(5));
+        for (core::Mesh::LoopCurve& u : loop) {
+            u.curve = rd.u32();
+            u.reversed = rd.u8() != 0;
+            if (u.curve >= m.curve_ends.size()) throw StoredResultError("stored result: a loop runs along a curve it does not hold");
+        }
+    }
 
     core::QualityMetrics& q = r.quality;
     for (size_t* v : {&q.points, &q.boundary_points, &q.interior_points, &q.triangles}) *v = static_cast<size_t>(rd.u64());

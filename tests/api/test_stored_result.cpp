@@ -58,6 +58,15 @@ TEST(StoredResult, DecodedIsTheSameResultInEveryField) {
     }
     EXPECT_EQ(a.mesh.tags, b.mesh.tags);
     EXPECT_EQ(a.mesh.holes, b.mesh.holes);
+    EXPECT_EQ(a.mesh.curve_ends, b.mesh.curve_ends);
+    ASSERT_EQ(a.mesh.loops.size(), b.mesh.loops.size());
+    for (size_t l = 0; l < a.mesh.loops.size(); ++l) {
+        ASSERT_EQ(a.mesh.loops[l].size(), b.mesh.loops[l].size());
+        for (size_t i = 0; i < a.mesh.loops[l].size(); ++i) {
+            EXPECT_EQ(a.mesh.loops[l][i].curve, b.mesh.loops[l][i].curve);
+            EXPECT_EQ(a.mesh.loops[l][i].reversed, b.mesh.loops[l][i].reversed);
+        }
+    }
     EXPECT_EQ(a.quality.quality_histogram, b.quality.quality_histogram);
     EXPECT_EQ(a.quality.angle_min, b.quality.angle_min);
     EXPECT_EQ(a.timings.total_ms, b.timings.total_ms);

@@ -60,6 +60,15 @@ void assemble(Mesh& m, const Domain& domain, const Discretisation& d, const std:
     }
     m.tags = domain.tags();
     m.holes = domain.hole_count();
+    m.curve_ends.assign(domain.curves().size(), {kNoVertex, kNoVertex});
+    for (CurveId c = 0; c < domain.curves().size(); ++c)
+        if (!d.curve_vertices[c].empty()) m.curve_ends[c] = {d.curve_vertices[c].front(), d.curve_vertices[c].back()};
+    m.loops.clear();
+    for (const DomainLoop& l : domain.loops()) {
+        std::vector<Mesh::LoopCurve> curves;
+        for (const CurveUse& u : l.items) curves.push_back({u.curve, u.reversed});
+        m.loops.push_back(std::move(curves));
+    }
 }
 
 }  // namespace

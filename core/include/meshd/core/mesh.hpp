@@ -67,6 +67,16 @@ struct Mesh {
     std::vector<MeshEdge> edges;
     std::vector<std::string> tags;
     size_t holes = 0;
+    /// The domain's curves as the mesh follows them (the topology file formats keep): per
+    /// domain curve, the mesh points at its start and end in its own direction (kNoVertex for
+    /// a curve the mesh does not follow), and each loop (outer first) as the curves it runs
+    /// along, with `reversed` set where it runs a curve from end to start.
+    std::vector<std::array<VertexId, 2>> curve_ends;
+    struct LoopCurve {
+        CurveId curve;
+        bool reversed;
+    };
+    std::vector<std::vector<LoopCurve>> loops;
     /// rho at each point (the interior density), for writers that carry the target size.
     std::vector<double> target_size;
 

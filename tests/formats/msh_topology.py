@@ -1,0 +1,128 @@
+#!/usr/bin/python3
+"""The MSH files of meshd-cli read by gmsh as a model with its topology: point entities at the
+curve ends, curve entities bounded by them and holding their nodes and their line elements as
+one chain, a surface bounded by closed, oriented loops of curves, every
+node classified once. Domains: the NACA 0012 example (closed curves), the half airfoil of
+Fig. 10 (open curves meeting at corners), Fig. 11 (two holes) and a plate whose embedded cut
+ends on a hole's circle (the circle split there).
+
+usage: msh_topology.py MESHD_CLI EXAMPLES_DIR"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import gmsh
+
+cli, examples = sys.argv[1], sys.argv[2]
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+CUT_TO_HOLE = {
+    "geometry": {
+        "points": {"A": [0, 0], "B": [4, 0], "C": [4, 2], "D": [0, 2], "H": [2.5, 1],
+                   "T": [2.0, 1.5], "Q": [2.0, 1.9]},
+        "curves": {
+            "bottom": {"type": "line", "from": "A", "to": "B", "tag": "wall"},
+            "right": {"type": "line", "from": "B", "to": "C", "tag": "outlet"},
+            "top": {"type": "line", "from": "C", "to": "D", "tag": "wall"},
+            "left": {"type": "line", "from": "D", "to": "A", "tag": "inlet"},
+            "hole": {"type": "arc", "from": "H", "to": "H", "center": [2, 1], "tag": "cylinder"},
+            "cut": {"type": "line", "from": "T", "to": "Q", "tag": "cut"}},
+        "loops": [["bottom", "right", "top", "left"], ["hole"]],
+        "embedded": ["cut"]},
+    "density": {"size": 0.08}}
+
+
+def topology(path, name):
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.open(path)
+    total = 0
+    seen = set()
+    for dim in (0, 1, 2):
+        for _, t in gmsh.model.getEntities(dim):
+            tags, _, _ = gmsh.model.mesh.getNodes(dim, t, includeBoundary=False)
+            total += len(tags)
+            seen.update(int(x) for x in tags)
+    _, coords, _ = gmsh.model.mesh.getNodes()
+    npoints = len(coords) // 3
+    check(total == npoints and len(seen) == npoints, f"{name}: every node classified on exactly one entity")
+
+    point_node = {}
+    for _, t in gmsh.model.getEntities(0):
+        tags, _, _ = gmsh.model.mesh.getNodes(0, t)
+        check(len(tags) == 1, f"{name}: point entity {t} holds one node")
+        point_node[t] = int(tags[0])
+    ends = {}
+    on_curves = set()
+    for _, t in gmsh.model.getEntities(1):
+        bound = gmsh.model.getBoundary([(1, t)], oriented=True, combined=False)
+        check(len(bound) == 2, f"{name}: curve {t} is bounded by two points")
+        if len(bound) != 2:
+            continue
+        begin, end = point_node[abs(bound[0][1])], point_node[abs(bound[1][1])]
+        ends[t] = (begin, end)
+        tags, _, _ = gmsh.model.mesh.getNodes(1, t, includeBoundary=False)
+        on_curves.update(int(x) for x in tags)
+        # Its line elements: one chain from its begin point to its end point through its nodes.
+        types, elems, nodes = gmsh.model.mesh.getElements(1, t)
+        check(list(types) == [1], f"{name}: curve {t} holds line elements")
+        pairs = [(int(nodes[0][2 * i]), int(nodes[0][2 * i + 1])) for i in range(len(elems[0]))]
+        adj = {}
+        for a, b in pairs:
+            adj.setdefault(a, []).append(b)
+            adj.setdefault(b, []).append(a)
+        path, prev, cur = [begin], None, begin
+        while len(path) <= len(pairs):
+            nxt = [x for x in adj.get(cur, []) if x != prev]
+            if not nxt:
+                break
+            prev, cur = cur, nxt[0]
+            path.append(cur)
+        check(len(path) == len(pairs) + 1 and path[-1] == end and set(path[1:-1]) == set(int(x) for x in tags),
+              f"{name}: curve {t}'s elements chain from its begin to its end point")
+    # The surface: its bounding curves, oriented, close into loops.
+    bound = [t for _, t in gmsh.model.getBoundary([(2, 1)], oriented=True, combined=False)]
+    loops, start, prev_end = 0, None, None
+    for t in bound:
+        if abs(t) not in ends:
+            check(False, f"{name}: the surface is bounded by curve {abs(t)}, which has no end points")
+            break
+        b, e = ends[abs(t)] if t > 0 else ends[abs(t)][::-1]
+        if prev_end is None:
+            start = b
+        else:
+            check(b == prev_end, f"{name}: the surface's curves follow each other")
+        prev_end = e
+        if e == start:
+            loops += 1
+            prev_end = None
+    check(prev_end is None, f"{name}: the surface's last loop closes")
+    gmsh.finalize()
+    return loops
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    cases = [("naca0012", os.path.join(examples, "naca0012.json"), 2),
+             ("fig10", os.path.join(examples, "fig10.json"), 1),
+             ("fig11", os.path.join(examples, "fig11.json"), 3)]
+    cut = os.path.join(tmp, "cut.json")
+    json.dump(CUT_TO_HOLE, open(cut, "w"))
+    cases.append(("cut-to-hole", cut, 2))
+    for name, request, loops in cases:
+        path = os.path.join(tmp, name + ".msh")
+        subprocess.run([cli, request, "-o", path, "--quiet"], check=True)
+        check(topology(path, name) == loops, f"{name}: {loops} loops bound the surface")
+
+if failures:
+    print(f"{len(failures)} checks failed")
+    sys.exit(1)
+print("msh topology: all checks passed")
