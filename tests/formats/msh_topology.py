@@ -15,7 +15,6 @@ import tempfile
 
 import gmsh
 
-cli, examples = sys.argv[1], sys.argv[2]
 failures = []
 
 
@@ -110,19 +109,24 @@ def topology(path, name):
     return loops
 
 
-with tempfile.TemporaryDirectory() as tmp:
-    cases = [("naca0012", os.path.join(examples, "naca0012.json"), 2),
-             ("fig10", os.path.join(examples, "fig10.json"), 1),
-             ("fig11", os.path.join(examples, "fig11.json"), 3)]
-    cut = os.path.join(tmp, "cut.json")
-    json.dump(CUT_TO_HOLE, open(cut, "w"))
-    cases.append(("cut-to-hole", cut, 2))
-    for name, request, loops in cases:
-        path = os.path.join(tmp, name + ".msh")
-        subprocess.run([cli, request, "-o", path, "--quiet"], check=True)
-        check(topology(path, name) == loops, f"{name}: {loops} loops bound the surface")
+def main():
+    cli, examples = sys.argv[1], sys.argv[2]
+    with tempfile.TemporaryDirectory() as tmp:
+        cases = [("naca0012", os.path.join(examples, "naca0012.json"), 2),
+                 ("fig10", os.path.join(examples, "fig10.json"), 1),
+                 ("fig11", os.path.join(examples, "fig11.json"), 3)]
+        cut = os.path.join(tmp, "cut.json")
+        json.dump(CUT_TO_HOLE, open(cut, "w"))
+        cases.append(("cut-to-hole", cut, 2))
+        for name, request, loops in cases:
+            path = os.path.join(tmp, name + ".msh")
+            subprocess.run([cli, request, "-o", path, "--quiet"], check=True)
+            check(topology(path, name) == loops, f"{name}: {loops} loops bound the surface")
+    if failures:
+        print(f"{len(failures)} checks failed")
+        sys.exit(1)
+    print("msh topology: all checks passed")
 
-if failures:
-    print(f"{len(failures)} checks failed")
-    sys.exit(1)
-print("msh topology: all checks passed")
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,79 @@
+#!/usr/bin/python3
+"""The MSH files of meshd-cli loaded by dolfinx (gmshio.model_to_mesh, as a FEniCS user loads
+a gmsh model): the mesh has the points and triangles of meshd's JSON answer, and its facet
+tags put every boundary and embedded edge under its own tag, edge for edge.
+
+usage: dolfinx_tags.py MESHD_CLI EXAMPLES_DIR"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import gmsh
+import numpy as np
+from dolfinx.io import gmshio
+from mpi4py import MPI
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from msh_topology import CUT_TO_HOLE  # noqa: E402
+
+cli, examples = sys.argv[1], sys.argv[2]
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def edge_key(p, q):
+    a, b = tuple(np.round(p[:2], 12)), tuple(np.round(q[:2], 12))
+    return (a, b) if a <= b else (b, a)
+
+
+def compare(msh, answer, name):
+    ref = json.load(open(answer))["mesh"]
+    pts = np.array(ref["points"])
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.open(msh)
+    names = {t: gmsh.model.getPhysicalName(1, t) for _, t in gmsh.model.getPhysicalGroups(1)}
+    mesh, _, facet_tags = gmshio.model_to_mesh(gmsh.model, MPI.COMM_WORLD, 0, gdim=2)
+    gmsh.finalize()
+    check(mesh.topology.index_map(0).size_local == len(pts), f"{name}: points")
+    check(mesh.topology.index_map(2).size_local == len(ref["triangles"]), f"{name}: triangles")
+    # Facet -> vertices -> geometry nodes (their coordinates), through the cells.
+    x = mesh.geometry.x
+    mesh.topology.create_connectivity(1, 0)
+    mesh.topology.create_connectivity(2, 0)
+    c2v, f2v, dofs = mesh.topology.connectivity(2, 0), mesh.topology.connectivity(1, 0), mesh.geometry.dofmap
+    node_of = {}
+    for c in range(mesh.topology.index_map(2).size_local):
+        for v, g in zip(c2v.links(c), dofs.links(c)):
+            node_of[int(v)] = int(g)
+    got = {}
+    for value, facet in zip(facet_tags.values, facet_tags.indices):
+        a, b = (node_of[int(v)] for v in f2v.links(facet))
+        got.setdefault(names.get(int(value), f"#{value}"), set()).add(edge_key(x[a], x[b]))
+    want = {tag: {edge_key(pts[a], pts[b]) for a, b in edges} for tag, edges in ref["boundaries"].items()}
+    check(set(got) == set(want), f"{name}: facet tags {sorted(got)} against {sorted(want)}")
+    for tag in want:
+        check(got.get(tag) == want[tag], f"{name}: the facets tagged {tag} are its edges")
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    cut = os.path.join(tmp, "cut.json")
+    json.dump(CUT_TO_HOLE, open(cut, "w"))
+    for name, request in [("naca0012", os.path.join(examples, "naca0012.json")),
+                          ("fig11", os.path.join(examples, "fig11.json")), ("cut-to-hole", cut)]:
+        msh, answer = os.path.join(tmp, name + ".msh"), os.path.join(tmp, name + ".json")
+        subprocess.run([cli, request, "-o", msh, "--quiet"], check=True)
+        subprocess.run([cli, request, "-o", answer, "--quiet"], check=True)
+        compare(msh, answer, name)
+
+if failures:
+    print(f"{len(failures)} checks failed")
+    sys.exit(1)
+print("dolfinx facet tags: all checks passed")
