@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # the readers the tests read our files back with
   python3 python3-numpy python3-meshio python3-vtk9 gmsh python3-gmsh python3-dolfinx
+  openfoam
   # the fuzz harnesses (scripts/fuzz.sh): Clang with libFuzzer and its sanitizer runtimes
   clang-16 libfuzzer-16-dev libclang-rt-16-dev
 )

@@ -26,7 +26,7 @@ json mesh_content() {
 
 json format_param() {
     return {{"name", "format"}, {"in", "query"}, {"required", false},
-            {"schema", {{"type", "string"}, {"enum", {"json", "vtk", "su2", "msh", "svg"}}, {"default", "json"}}}};
+            {"schema", {{"type", "string"}, {"enum", {"json", "vtk", "su2", "msh", "svg", "foam"}}, {"default", "json"}}}};
 }
 
 json id_param() {

@@ -74,7 +74,7 @@ TEST(StoredResult, DecodedIsTheSameResultInEveryField) {
     EXPECT_EQ(a.stats.incircle_exact, b.stats.incircle_exact);
     // Every field above, and the metrics object, through the writers: the same bytes.
     EXPECT_EQ(api::metrics_json(a), api::metrics_json(b));
-    for (const char* name : {"json", "vtk", "su2", "msh", "svg"}) {
+    for (const char* name : {"json", "vtk", "su2", "msh", "svg", "foam"}) {
         const api::Format f = *api::parse_format(name);
         EXPECT_EQ(written(f, a), written(f, b)) << name;
     }

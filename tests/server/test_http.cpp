@@ -194,7 +194,8 @@ TEST(Http, SyncMeshInEveryFormatMatchesTheCli) {
     EXPECT_TRUE(j["mesh"]["boundaries"].contains("wall"));
     EXPECT_TRUE(j["mesh"]["boundaries"].contains("farfield"));
     const std::map<std::string, std::string> types{{"vtk", "application/octet-stream"}, {"su2", "text/plain"},
-                                                   {"msh", "text/plain"}, {"svg", "image/svg+xml"}};
+                                                   {"msh", "text/plain"}, {"svg", "image/svg+xml"},
+                                                   {"foam", "application/x-tar"}};
     for (const auto& [fmt, type] : types) {
         auto f = c.Post(("/v1/meshes?format=" + fmt).c_str(), naca_request(), "application/json");
         ASSERT_TRUE(f) << fmt;

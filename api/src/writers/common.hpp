@@ -1,6 +1,7 @@
 #pragma once
 // What the writers share: shortest round-trip numbers, big-endian binary, edges by tag.
 
+#include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cstdint>
@@ -12,9 +13,6 @@
 #include "meshd/api/writers.hpp"
 
 namespace meshd::api::writers {
-
-using core::Mesh;
-using core::MeshResult;
 
 using core::Mesh;
 using core::MeshResult;
@@ -54,6 +52,24 @@ inline std::vector<std::vector<const core::MeshEdge*>> edges_by_tag(const Mesh& 
     std::vector<std::vector<const core::MeshEdge*>> g(m.tags.size());
     for (const auto& e : m.edges) g[e.tag].push_back(&e);
     return g;
+}
+
+/// Names for the tags in a format that allows fewer characters: every character `keep`
+/// refuses becomes '_'; two tags that then read alike stay apart (the later gets "_2", "_3",
+/// ...); names in `taken` are avoided the same way (docs/api.md, "Tags in files").
+template <class Keep>
+std::vector<std::string> tag_names(const std::vector<std::string>& tags, Keep keep, std::vector<std::string> taken = {}) {
+    std::vector<std::string> out;
+    for (const std::string& t : tags) {
+        std::string base = t;
+        for (char& c : base)
+            if (!keep(c)) c = '_';
+        std::string name = base;
+        for (int k = 2; std::find(taken.begin(), taken.end(), name) != taken.end(); ++k) name = base + "_" + std::to_string(k);
+        taken.push_back(name);
+        out.push_back(name);
+    }
+    return out;
 }
 
 /// Text for XML character data and attribute values: & < > " ' as entities.

@@ -15,6 +15,7 @@ std::optional<Format> parse_format(std::string_view n) {
     if (n == "su2") return Format::Su2;
     if (n == "msh") return Format::Msh;
     if (n == "svg") return Format::Svg;
+    if (n == "foam") return Format::Foam;
     return std::nullopt;
 }
 
@@ -25,6 +26,7 @@ const char* format_name(Format f) {
         case Format::Su2: return "su2";
         case Format::Msh: return "msh";
         case Format::Svg: return "svg";
+        case Format::Foam: return "foam";
     }
     return "json";
 }
@@ -36,6 +38,7 @@ const char* content_type(Format f) {
         case Format::Su2: return "text/plain; charset=utf-8";
         case Format::Msh: return "text/plain; charset=utf-8";
         case Format::Svg: return "image/svg+xml";
+        case Format::Foam: return "application/x-tar";
     }
     return "application/octet-stream";
 }
@@ -53,6 +56,7 @@ void write_mesh(Format f, const MeshResult& r, std::ostream& os) {
         case Format::Su2: write_su2(r, os); break;
         case Format::Msh: write_msh(r, os); break;
         case Format::Svg: write_svg(r, os); break;
+        case Format::Foam: write_foam(r, os); break;
     }
 }
 

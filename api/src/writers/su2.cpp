@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 #include <string>
 
 #include "writers/common.hpp"
@@ -26,15 +25,11 @@ void write_su2(const MeshResult& r, std::ostream& os) {
     os << "NMARK= " << marks << '\n';
     // Marker names end at white space: spaces become '_'. Two tags that then read alike ("far
     // field", "far_field") must stay two markers: the later gets "_2", "_3", ... (docs/api.md).
-    std::set<std::string> written;
+    const std::vector<std::string> names =
+        tag_names(m.tags, [](char c) { return c != ' ' && c != '\t' && c != '\n' && c != '\r'; });
     for (size_t g = 0; g < groups.size(); ++g) {
         if (groups[g].empty()) continue;
-        std::string base = m.tags[g];
-        for (char& c : base)
-            if (c == ' ' || c == '\t' || c == '\n' || c == '\r') c = '_';
-        std::string tag = base;
-        for (int k = 2; !written.insert(tag).second; ++k) tag = base + "_" + std::to_string(k);
-        os << "MARKER_TAG= " << tag << "\nMARKER_ELEMS= " << groups[g].size() << '\n';
+        os << "MARKER_TAG= " << names[g] << "\nMARKER_ELEMS= " << groups[g].size() << '\n';
         for (const auto* e : groups[g]) os << "3 " << e->a << ' ' << e->b << '\n';
     }
 }

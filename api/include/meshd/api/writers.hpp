@@ -3,6 +3,7 @@
 /// MSH 4.1 and SVG. All write straight to a stream as they go: no second copy of the mesh
 /// is built as text.
 
+#include <map>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -12,7 +13,7 @@
 
 namespace meshd::api {
 
-enum class Format { Json, Vtk, Su2, Msh, Svg };
+enum class Format { Json, Vtk, Su2, Msh, Svg, Foam };
 
 std::optional<Format> parse_format(std::string_view name);
 const char* format_name(Format f);
@@ -33,6 +34,17 @@ void write_json(const core::MeshResult& r, std::ostream& os);
 void write_vtk(const core::MeshResult& r, std::ostream& os);
 void write_su2(const core::MeshResult& r, std::ostream& os);
 void write_msh(const core::MeshResult& r, std::ostream& os);
+
+struct FoamOptions {
+    /// Tag -> OpenFOAM patch type (wall, symmetryPlane, ...); other tags are `patch`.
+    std::map<std::string, std::string> patch_types;
+    /// The slab's thickness; default: the mean length of the boundary edges.
+    std::optional<double> slab_thickness;
+};
+/// An OpenFOAM constant/polyMesh as a tar archive (foam.cpp): the mesh extruded one cell
+/// thick, one patch per tag (named by the tag, characters OpenFOAM refuses as '_'), the slab's
+/// faces in the empty patch frontAndBack.
+void write_foam(const core::MeshResult& r, std::ostream& os, const FoamOptions& options = {});
 /// view: the window of the plane to draw (default: the whole mesh); triangles and edges
 /// outside it are left out.
 void write_svg(const core::MeshResult& r, std::ostream& os, std::optional<core::Box> view = std::nullopt);

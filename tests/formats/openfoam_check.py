@@ -1,0 +1,101 @@
+#!/usr/bin/python3
+"""The foam archives of meshd-cli unpacked into OpenFOAM cases and checked by OpenFOAM's own
+checkMesh (Debian's openfoam): "Mesh OK", a prism per triangle, the volume the triangles'
+area times the slab's thickness, one patch per tag with as many faces as the tag has edges
+(embedded edges are internal faces), frontAndBack empty with two faces per triangle.
+
+usage: openfoam_check.py MESHD_CLI EXAMPLES_DIR"""
+import json
+import os
+import re
+import subprocess
+import sys
+import tarfile
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from msh_topology import CUT_TO_HOLE  # noqa: E402
+
+cli, examples = sys.argv[1], sys.argv[2]
+failures = []
+
+SYSTEM = {
+    "controlDict": "application simpleFoam; startFrom startTime; startTime 0; stopAt endTime; endTime 1;\n"
+                   "deltaT 1; writeControl timeStep; writeInterval 1;\n",
+    "fvSchemes": "ddtSchemes { default steadyState; } gradSchemes { default Gauss linear; }\n"
+                 "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
+                 "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n",
+    "fvSolution": "",
+}
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def case_of(archive, where):
+    with tarfile.open(archive) as t:
+        names = sorted(m.name for m in t.getmembers() if m.isfile())
+        check(names == ["constant/polyMesh/" + n for n in ("boundary", "faces", "neighbour", "owner", "points")],
+              f"{archive}: the five polyMesh files")
+        t.extractall(where)
+    os.makedirs(os.path.join(where, "system"), exist_ok=True)
+    for name, body in SYSTEM.items():
+        with open(os.path.join(where, "system", name), "w") as f:
+            f.write("FoamFile { version 2.0; format ascii; class dictionary; object %s; }\n%s" % (name, body))
+
+
+def patches(case):
+    text = open(os.path.join(case, "constant/polyMesh/boundary")).read()
+    return {m.group(1): (m.group(2), int(m.group(3)))
+            for m in re.finditer(r"(\S+)\s*\{\s*type\s+(\w+);[^}]*?nFaces\s+(\d+);", text)}
+
+
+def slab(case):
+    text = open(os.path.join(case, "constant/polyMesh/points")).read()
+    zs = [float(z) for z in re.findall(r"\(\S+ \S+ (\S+)\)", text)]
+    return max(zs)
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    cut = os.path.join(tmp, "cut.json")
+    json.dump(CUT_TO_HOLE, open(cut, "w"))
+    for name, request in [("naca0012", os.path.join(examples, "naca0012.json")),
+                          ("fig11", os.path.join(examples, "fig11.json")), ("cut-to-hole", cut)]:
+        archive, answer, case = (os.path.join(tmp, name + ext) for ext in (".tar", ".json", ""))
+        subprocess.run([cli, request, "-o", archive, "--format", "foam", "--quiet"], check=True)
+        subprocess.run([cli, request, "-o", answer, "--quiet"], check=True)
+        again = archive + ".again"
+        subprocess.run([cli, request, "-o", again, "--format", "foam", "--quiet"], check=True)
+        check(open(archive, "rb").read() == open(again, "rb").read(), f"{name}: the same archive twice")
+        case_of(archive, case)
+        run = subprocess.run(["bash", "-c", "source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; checkMesh -case " + case],
+                             capture_output=True, text=True)
+        out = run.stdout + run.stderr
+        check(run.returncode == 0 and "\nMesh OK." in out, f"{name}: checkMesh says Mesh OK")
+        ref = json.load(open(answer))["mesh"]
+        pts, tris = np.array(ref["points"]), np.array(ref["triangles"])
+        prisms = re.search(r"prisms:\s+(\d+)", out)
+        check(prisms is not None and int(prisms.group(1)) == len(tris), f"{name}: a prism per triangle")
+        a, b, c = pts[tris[:, 0]], pts[tris[:, 1]], pts[tris[:, 2]]
+        area = 0.5 * np.sum((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+        vol = re.search(r"Total volume = (\S+)\.", out)
+        check(vol is not None and abs(float(vol.group(1)) - area * slab(case)) <= 1e-4 * area * slab(case),
+              f"{name}: volume = area x thickness")
+        got = patches(case)
+        check(got.get("frontAndBack") == ("empty", 2 * len(tris)), f"{name}: frontAndBack empty, two faces per triangle")
+        embedded = {"cut"} if name == "cut-to-hole" else set()
+        for tag, edges in ref["boundaries"].items():
+            if tag in embedded:
+                check(tag not in got, f"{name}: embedded {tag} edges are internal faces")
+            else:
+                check(got.get(tag) == ("patch", len(edges)), f"{name}: patch {tag} has its {len(edges)} edges")
+
+if failures:
+    print(f"{len(failures)} checks failed")
+    sys.exit(1)
+print("openfoam checkMesh: all checks passed")
