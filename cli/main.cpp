@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
         progress.finish();
         auto write = [&](std::ostream& os) {
             if (*format == api::Format::Svg) api::write_svg(r, os, view);
-            else api::write_mesh(*format, r, os);
+            else api::write_mesh(*format, r, os, req.foam);
         };
         if (output.empty()) {
             write(std::cout);

@@ -343,7 +343,8 @@ void density(const json& d, const NameOrder& order, core::DensitySpec& out) {
 
 void options(const json& o, MeshRequest& r) {
     const std::string ptr = "/options";
-    expect_object(o, ptr, {"smoothing_iterations", "triangulator", "max_points", "timeout_s", "min_angle_deg"});
+    expect_object(o, ptr, {"smoothing_iterations", "triangulator", "max_points", "timeout_s", "min_angle_deg",
+                           "patch_types", "slab_thickness"});
     if (o.contains("smoothing_iterations"))
         r.options.smoothing_iterations = static_cast<int>(integer(o["smoothing_iterations"], ptr + "/smoothing_iterations", 0, 1000));
     if (o.contains("triangulator")) {
@@ -359,6 +360,27 @@ void options(const json& o, MeshRequest& r) {
         const double t = number(o["timeout_s"], ptr + "/timeout_s");
         if (!(t > 0.0)) fail(ptr + "/timeout_s", "timeout_s must be positive");
         r.timeout_s = t;
+    }
+    if (o.contains("patch_types")) {
+        // Tag -> OpenFOAM patch type, for format=foam; every key must be a tag of the geometry.
+        const json& p = o["patch_types"];
+        const std::string at = ptr + "/patch_types";
+        if (!p.is_object()) fail(at, std::string("expected an object, got ") + type_name(p), "wrong-type");
+        std::set<std::string> tags;
+        for (const core::CurveSpec& c : r.geometry.curves) tags.insert(c.tag.value_or(c.name));
+        for (const auto& [tag, value] : p.items()) {
+            const std::string here = at + "/" + pointer_token(tag);
+            const std::string type = string(value, here);
+            if (type != "patch" && type != "wall" && type != "symmetryPlane" && type != "symmetry")
+                fail(here, "patch type \"" + type + "\" is not one of patch, wall, symmetryPlane, symmetry");
+            if (!tags.count(tag)) fail(here, "\"" + tag + "\" is not a tag of the geometry");
+            r.foam.patch_types[tag] = type;
+        }
+    }
+    if (o.contains("slab_thickness")) {
+        const double t = number(o["slab_thickness"], ptr + "/slab_thickness");
+        if (!(t > 0.0) || !(t <= 1e30)) fail(ptr + "/slab_thickness", "slab_thickness must be positive and at most 1e30");
+        r.foam.slab_thickness = t;
     }
     if (o.contains("min_angle_deg")) {
         const double a = number(o["min_angle_deg"], ptr + "/min_angle_deg");

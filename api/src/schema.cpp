@@ -136,7 +136,17 @@ json request() {
               {"max_points", {{"type", "integer"}, {"minimum", 1}, {"maximum", static_cast<long long>(core::kMaxPointsLimit)}}},
               {"timeout_s", {{"type", "number"}, {"minimum", 0}, {"exclusiveMinimum", true}}},
               {"min_angle_deg",
-               {{"type", "number"}, {"minimum", 0}, {"maximum", 34}, {"default", 0}}}}}}}}},
+               {{"type", "number"}, {"minimum", 0}, {"maximum", 34}, {"default", 0}}},
+              {"patch_types",
+               {{"type", "object"},
+                {"description", "for format=foam: tag -> OpenFOAM patch type; other tags are patch"},
+                {"additionalProperties", {{"type", "string"}, {"enum", {"patch", "wall", "symmetryPlane", "symmetry"}}}}}},
+              {"slab_thickness",
+               {{"type", "number"},
+                {"description", "for format=foam: the extrusion's thickness (default: the mean boundary edge length)"},
+                {"minimum", 0},
+                {"exclusiveMinimum", true},
+                {"maximum", 1e30}}}}}}}}},
         {"example", json::parse(kExampleRequest)}};
 }
 

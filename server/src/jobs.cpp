@@ -91,6 +91,7 @@ std::string JobManager::new_id() {
 std::shared_ptr<Job> JobManager::submit(api::MeshRequest request, double parse_s) {
     auto job = std::make_shared<Job>();
     job->parse_s = parse_s;
+    job->foam = request.foam;
     // The server's point limit, unless the request asks for fewer.
     const size_t cap = config_.max_points;
     size_t& asked = request.options.max_points;

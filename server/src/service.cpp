@@ -96,14 +96,15 @@ private:
 // Streams the mesh; past `until` the connection is dropped (the answer is incomplete: a
 // client that reads too slowly cannot hold a thread and the mesh beyond the time limit).
 void send_mesh(httplib::Response& res, std::shared_ptr<const core::MeshResult> result, api::Format f,
-               std::chrono::steady_clock::time_point until) {
+               api::FoamOptions foam, std::chrono::steady_clock::time_point until) {
     res.status = 200;
-    res.set_chunked_content_provider(api::content_type(f), [result, f, until](size_t, httplib::DataSink& sink) {
+    if (f == api::Format::Foam) res.set_header("Content-Disposition", "attachment; filename=\"polyMesh.tar\"");
+    res.set_chunked_content_provider(api::content_type(f), [result, f, foam = std::move(foam), until](size_t, httplib::DataSink& sink) {
         bool ok = true;
         {
             SinkBuf buf(sink, until);
             std::ostream os(&buf);
-            api::write_mesh(f, *result, os);
+            api::write_mesh(f, *result, os, foam);
             os.flush();
             ok = buf.ok();
         }
@@ -380,13 +381,14 @@ void Service::install() {
         auto result = job->result;  // the answer holds the mesh while it streams
         const std::optional<api::Problem> error = job->error;
         const auto deadline = job->deadline;
+        api::FoamOptions foam = job->foam;
         lock.unlock();
         jobs_->forget(job);  // nobody asks for a synchronous job again
         if (client_gone)
             send_problem(res, problem(499, "client-closed-request", "Client closed request",
                                       "the client closed the connection before the answer; the job was cancelled"));
         else if (status == JobStatus::Succeeded)
-            send_mesh(res, std::move(result), *f, deadline);
+            send_mesh(res, std::move(result), *f, std::move(foam), deadline);
         else if (status == JobStatus::Failed)
             send_problem(res, *error);
         else
@@ -440,8 +442,9 @@ void Service::install() {
         }
         if (!job->result) return send_problem(res, problem(410, "expired", "Gone", "the mesh has expired; submit the request again"));
         auto result = job->result;
+        api::FoamOptions foam = job->foam;
         lock.unlock();
-        send_mesh(res, std::move(result), *f,
+        send_mesh(res, std::move(result), *f, std::move(foam),
                   std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                          std::chrono::duration<double>(config_.job_timeout_s)));
     });

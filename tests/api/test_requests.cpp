@@ -109,3 +109,18 @@ TEST(Problem, InternalErrorsKeepSourceLocationsOutOfTheAnswer) {
     EXPECT_EQ(p.to_json().find("/build/"), std::string::npos);
     EXPECT_NE(log.find("x.cpp:42"), std::string::npos);
 }
+
+TEST(Request, FoamOptionsNameTagsOfTheGeometry) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(read_file(MESHD_SOURCE_DIR "/examples/naca0012.json"));
+    j["options"]["patch_types"] = {{"wall", "wall"}, {"farfield", "patch"}};
+    j["options"]["slab_thickness"] = 0.25;
+    const api::MeshRequest r = api::parse_request(j.dump());
+    EXPECT_EQ(r.foam.patch_types.at("wall"), "wall");
+    EXPECT_EQ(r.foam.patch_types.at("farfield"), "patch");
+    EXPECT_EQ(r.foam.slab_thickness, 0.25);
+    // A key that is no tag of the geometry (a typo) is refused with its pointer.
+    j["options"]["patch_types"] = {{"wal", "wall"}};
+    const api::Problem p = answer(j.dump());
+    EXPECT_EQ(p.status, 400);
+    EXPECT_EQ(p.pointer, "/options/patch_types/wal");
+}

@@ -148,6 +148,10 @@ case("unknown triangulator", 400, "/options/triangulator", setp(["options"], {"t
 case("negative timeout", 400, "/options/timeout_s", setp(["options"], {"timeout_s": -5}))
 case("min angle too large", 400, "/options/min_angle_deg", setp(["options"], {"min_angle_deg": 50}))
 case("max_points zero", 400, "/options/max_points", setp(["options"], {"max_points": 0}))
+case("unknown patch type", 400, "/options/patch_types/wall", setp(["options"], {"patch_types": {"wall": "inlet"}}))
+case("patch type not a string", 400, "/options/patch_types/wall", setp(["options"], {"patch_types": {"wall": 1}}))
+case("patch types not an object", 400, "/options/patch_types", setp(["options"], {"patch_types": ["wall"]}))
+case("zero slab thickness", 400, "/options/slab_thickness", setp(["options"], {"slab_thickness": 0}))
 # Valid shape, invalid domain
 case("unknown curve in a loop", 422, "/geometry/loops/0/1", setp(["geometry", "loops"], [["bottom", "rigth", "top", "left"]]))
 case("unknown point", 422, "/geometry/curves/right/to", setp(["geometry", "curves", "right", "to"], "Z"))

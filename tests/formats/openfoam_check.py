@@ -64,16 +64,22 @@ def slab(case):
 with tempfile.TemporaryDirectory() as tmp:
     cut = os.path.join(tmp, "cut.json")
     json.dump(CUT_TO_HOLE, open(cut, "w"))
+    walls = json.load(open(os.path.join(examples, "naca0012.json")))
+    walls.setdefault("options", {}).update({"patch_types": {"wall": "wall"}, "slab_thickness": 0.5})
+    typed = os.path.join(tmp, "walls.json")
+    json.dump(walls, open(typed, "w"))
     for name, request in [("naca0012", os.path.join(examples, "naca0012.json")),
-                          ("fig11", os.path.join(examples, "fig11.json")), ("cut-to-hole", cut)]:
-        archive, answer, case = (os.path.join(tmp, name + ext) for ext in (".tar", ".json", ""))
+                          ("fig11", os.path.join(examples, "fig11.json")), ("cut-to-hole", cut),
+                          ("naca0012 with a wall patch, slab 0.5", typed)]:
+        stem = re.sub(r"[^A-Za-z0-9]+", "-", name)
+        archive, answer, case = (os.path.join(tmp, stem + ext) for ext in (".tar", ".json", ""))
         subprocess.run([cli, request, "-o", archive, "--format", "foam", "--quiet"], check=True)
         subprocess.run([cli, request, "-o", answer, "--quiet"], check=True)
         again = archive + ".again"
         subprocess.run([cli, request, "-o", again, "--format", "foam", "--quiet"], check=True)
         check(open(archive, "rb").read() == open(again, "rb").read(), f"{name}: the same archive twice")
         case_of(archive, case)
-        run = subprocess.run(["bash", "-c", "source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; checkMesh -case " + case],
+        run = subprocess.run(["bash", "-c", "source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; checkMesh -case '" + case + "'"],
                              capture_output=True, text=True)
         out = run.stdout + run.stderr
         check(run.returncode == 0 and "\nMesh OK." in out, f"{name}: checkMesh says Mesh OK")
@@ -88,12 +94,17 @@ with tempfile.TemporaryDirectory() as tmp:
               f"{name}: volume = area x thickness")
         got = patches(case)
         check(got.get("frontAndBack") == ("empty", 2 * len(tris)), f"{name}: frontAndBack empty, two faces per triangle")
+        options = json.load(open(request)).get("options", {})
+        if "slab_thickness" in options:
+            check(slab(case) == options["slab_thickness"], f"{name}: the slab as thick as asked")
+        types = options.get("patch_types", {})
         embedded = {"cut"} if name == "cut-to-hole" else set()
         for tag, edges in ref["boundaries"].items():
             if tag in embedded:
                 check(tag not in got, f"{name}: embedded {tag} edges are internal faces")
             else:
-                check(got.get(tag) == ("patch", len(edges)), f"{name}: patch {tag} has its {len(edges)} edges")
+                want = (types.get(tag, "patch"), len(edges))
+                check(got.get(tag) == want, f"{name}: patch {tag} is {want}, got {got.get(tag)}")
 
 if failures:
     print(f"{len(failures)} checks failed")

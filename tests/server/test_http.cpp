@@ -639,3 +639,26 @@ TEST(Http, ABodyTrickledPastTheTimeLimitIs408) {
     EXPECT_NE(answer.find("Connection: close"), std::string::npos) << answer;
     EXPECT_NE(answer.find("/v1/problems/request-timeout"), std::string::npos) << answer;
 }
+
+// The foam options travel with an async job: its mesh fetched later as format=foam has the
+// patch types and the slab asked for (the request itself is released once the job has run).
+TEST(Http, AnAsyncJobKeepsItsFoamOptions) {
+    ServerProcess s({});
+    auto c = client(s);
+    json req = json::parse(naca_request());
+    req["options"]["patch_types"] = {{"wall", "wall"}};
+    req["options"]["slab_thickness"] = 0.125;
+    auto r = c.Post("/v1/jobs", req.dump(), "application/json");
+    ASSERT_EQ(r->status, 202) << r->body;
+    const std::string id = json::parse(r->body)["id"];
+    ASSERT_EQ(wait_for_job(c, id)["status"], "succeeded");
+    auto tar = c.Get(("/v1/jobs/" + id + "/mesh?format=foam").c_str());
+    ASSERT_TRUE(tar);
+    ASSERT_EQ(tar->status, 200);
+    EXPECT_EQ(tar->get_header_value("Content-Type"), "application/x-tar");
+    EXPECT_NE(tar->body.find("wall\n    {\n        type            wall;"), std::string::npos);
+    EXPECT_NE(tar->body.find(" 0.125)\n"), std::string::npos);  // the top points
+    auto sync = c.Post("/v1/meshes?format=foam", req.dump(), "application/json");
+    ASSERT_TRUE(sync);
+    EXPECT_EQ(sync->body, tar->body);
+}

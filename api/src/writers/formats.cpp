@@ -49,14 +49,16 @@ size_t result_bytes(const core::MeshResult& r) {
            m.triangles.size() * sizeof(core::Triangle) + m.edges.size() * sizeof(core::MeshEdge) + 4096;
 }
 
-void write_mesh(Format f, const MeshResult& r, std::ostream& os) {
+void write_mesh(Format f, const MeshResult& r, std::ostream& os) { write_mesh(f, r, os, FoamOptions{}); }
+
+void write_mesh(Format f, const MeshResult& r, std::ostream& os, const FoamOptions& foam) {
     switch (f) {
         case Format::Json: write_json(r, os); break;
         case Format::Vtk: write_vtk(r, os); break;
         case Format::Su2: write_su2(r, os); break;
         case Format::Msh: write_msh(r, os); break;
         case Format::Svg: write_svg(r, os); break;
-        case Format::Foam: write_foam(r, os); break;
+        case Format::Foam: write_foam(r, os, foam); break;
     }
 }
 

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string_view>
 
+#include "meshd/api/writers.hpp"
 #include "meshd/core/mesher.hpp"
 
 namespace meshd::api {
@@ -15,6 +16,8 @@ struct MeshRequest {
     core::DensitySpec density;
     core::MeshOptions options;  ///< max_points 0 when the request gives none
     std::optional<double> timeout_s;
+    /// options.patch_types and options.slab_thickness, for format=foam.
+    FoamOptions foam;
 };
 
 /// Limits of the parser itself.

@@ -25,6 +25,9 @@ std::string metrics_json(const core::MeshResult& r);
 /// Memory a finished result holds (its arrays, roughly), for the server's result budget.
 size_t result_bytes(const core::MeshResult& r);
 
+struct FoamOptions;
+/// `foam`: the options of format=foam (the request's patch_types and slab_thickness).
+void write_mesh(Format f, const core::MeshResult& r, std::ostream& os, const FoamOptions& foam);
 void write_mesh(Format f, const core::MeshResult& r, std::ostream& os);
 
 void write_json(const core::MeshResult& r, std::ostream& os);

@@ -50,6 +50,8 @@ struct Job {
     bool server_point_limit = false;
     /// Seconds spent reading and parsing the request: counted in the job's time limit.
     double parse_s = 0.0;
+    /// How the mesh is written as format=foam (kept after the request is released).
+    api::FoamOptions foam;
     std::chrono::system_clock::time_point submitted, started, finished;
 
     // Written by the worker, read by HTTP threads: under `m`.
