@@ -2,7 +2,8 @@
 """The foam archives of meshd-cli unpacked into OpenFOAM cases and checked by OpenFOAM's own
 checkMesh (Debian's openfoam): "Mesh OK", a prism per triangle, the volume the triangles'
 area times the slab's thickness, one patch per tag with as many faces as the tag has edges
-(embedded edges are internal faces), frontAndBack empty with two faces per triangle.
+(embedded edges are internal faces), frontAndBack empty with two faces per triangle; and
+potentialFoam runs on the NACA 0012 case.
 
 usage: openfoam_check.py MESHD_CLI EXAMPLES_DIR"""
 import json
@@ -106,7 +107,40 @@ with tempfile.TemporaryDirectory() as tmp:
                 want = (types.get(tag, "patch"), len(edges))
                 check(got.get(tag) == want, f"{name}: patch {tag} is {want}, got {got.get(tag)}")
 
+# A solver on it: potentialFoam around the NACA 0012 at 4 degrees (slip wall, free stream on
+# the far field) converges, with a continuity error near round-off.
+POTENTIAL = {
+    "0/U": "dimensions [0 1 -1 0 0 0 0]; internalField uniform (1 0.0699 0);\n"
+           "boundaryField { wall { type slip; } farfield { type freestreamVelocity; freestreamValue uniform (1 0.0699 0); }\n"
+           "frontAndBack { type empty; } }\n",
+    "0/p": "dimensions [0 2 -2 0 0 0 0]; internalField uniform 0;\n"
+           "boundaryField { wall { type zeroGradient; } farfield { type freestreamPressure; freestreamValue uniform 0; }\n"
+           "frontAndBack { type empty; } }\n",
+    "system/fvSchemes": "ddtSchemes { default steadyState; } gradSchemes { default Gauss linear; }\n"
+                        "divSchemes { default none; div(phi,U) bounded Gauss linear; div(div(phi,U)) Gauss linear; }\n"
+                        "laplacianSchemes { default Gauss linear corrected; } interpolationSchemes { default linear; }\n"
+                        "snGradSchemes { default corrected; }\n",
+    "system/fvSolution": "solvers { Phi { solver GAMG; smoother DIC; tolerance 1e-08; relTol 0; }\n"
+                         "p { solver GAMG; smoother DIC; tolerance 1e-08; relTol 0; } }\n"
+                         "potentialFlow { nNonOrthogonalCorrectors 3; }\n",
+}
+with tempfile.TemporaryDirectory() as tmp:
+    archive, case = os.path.join(tmp, "naca.tar"), os.path.join(tmp, "naca")
+    subprocess.run([cli, os.path.join(examples, "naca0012.json"), "-o", archive, "--format", "foam", "--quiet"], check=True)
+    case_of(archive, case)
+    os.makedirs(os.path.join(case, "0"))
+    for path, body in POTENTIAL.items():
+        kind = {"0/U": "volVectorField", "0/p": "volScalarField"}.get(path, "dictionary")
+        with open(os.path.join(case, path), "w") as f:
+            f.write("FoamFile { version 2.0; format ascii; class %s; object %s; }\n%s" % (kind, os.path.basename(path), body))
+    run = subprocess.run(["bash", "-c", "source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; potentialFoam -writep -case '" + case + "'"],
+                         capture_output=True, text=True)
+    out = run.stdout + run.stderr
+    cont = re.search(r"Continuity error = (\S+)", out)
+    check(run.returncode == 0 and "\nEnd" in out and cont is not None and float(cont.group(1)) < 1e-6,
+          "potentialFoam runs on the NACA 0012 mesh: exit %d, %s" % (run.returncode, cont.group(0) if cont else out[-300:]))
+
 if failures:
     print(f"{len(failures)} checks failed")
     sys.exit(1)
-print("openfoam checkMesh: all checks passed")
+print("openfoam: checkMesh and potentialFoam, all checks passed")
