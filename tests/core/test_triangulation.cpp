@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 
@@ -171,5 +172,35 @@ TEST(Triangulators, FuzzNearlyCoincidentPairInASquare) {
     expect_valid(mesh_of(pts, loops.size() - 1, d, cons));
     const TriangulationResult f = triangulate_advancing_front(pts, cons);
     expect_valid(mesh_of(pts, loops.size() - 1, f, cons));
+    EXPECT_EQ(canonical(f.triangles), canonical(d.triangles));
+}
+
+// Found by fuzz/fuzz_triangulation (crash dc12eaa4; its 153 points and 14 constraints in
+// tests/data/af_nearly_coincident_points.txt, coordinates in hexadecimal): two points
+// 2^-40 apart. The advancing front took the floating-point circumcentre of a triangle with
+// them and a third point, far from the true one of that nearly flat triangle, for proof that
+// its circle lay inside the searched disk, and formed a triangle whose circle held a point
+// (the two triangulators then disagreed). The test now adds the centre's error, which grows
+// as the triangle flattens, and the search grows instead.
+TEST(Triangulators, FuzzNearlyFlatTriangleDoesNotEndTheSearchEarly) {
+    std::FILE* in = std::fopen(MESHD_SOURCE_DIR "/tests/data/af_nearly_coincident_points.txt", "r");
+    ASSERT_NE(in, nullptr);
+    size_t n = 0;
+    ASSERT_EQ(std::fscanf(in, "%zu", &n), 1);
+    std::vector<Vec2> pts(n);
+    for (Vec2& p : pts) ASSERT_EQ(std::fscanf(in, "%la %la", &p.x, &p.y), 2);
+    size_t m = 0;
+    ASSERT_EQ(std::fscanf(in, "%zu", &m), 1);
+    std::vector<Constraint> cons(m);
+    for (Constraint& c : cons) {
+        int loop = 0;
+        ASSERT_EQ(std::fscanf(in, "%u %u %d", &c.a, &c.b, &loop), 3);
+        c.loop = loop != 0;
+    }
+    std::fclose(in);
+    const TriangulationResult d = triangulate_delaunay(pts, cons);
+    expect_valid(mesh_of(pts, 0, d, cons));
+    const TriangulationResult f = triangulate_advancing_front(pts, cons);
+    expect_valid(mesh_of(pts, 0, f, cons));
     EXPECT_EQ(canonical(f.triangles), canonical(d.triangles));
 }

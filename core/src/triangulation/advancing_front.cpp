@@ -12,6 +12,7 @@
 // the same triangles.
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <array>
 #include <memory>
@@ -211,9 +212,18 @@ private:
             // A disk this large holds every point: the search is complete.
             const bool everything = r >= 2.0 * extent_;
             if (best != UINT32_MAX) {
-                // Is the circle through a, b, best inside the searched disk?
+                // Is the circle through a, b, best inside the searched disk? Its centre is
+                // computed in floating point, with an error that grows as the triangle flattens
+                // (1 / sin of its angle at a): that much is added, so that a nearly degenerate
+                // triangle (best 2^-40 from b: a huge circle computed as a small one) makes the
+                // search grow instead of ending early.
                 const Vec2 centre = circumcentre(pa, pb, pts_[best]);
-                const double need = distance(centre, mid) + distance(centre, pa);
+                const Vec2 d = pb - pa, e = pts_[best] - pa;
+                const double flat = norm(d) * norm(e) / std::fabs(cross(d, e));
+                const double radius = distance(centre, pa);
+                const double slack = 64.0 * DBL_EPSILON * (radius + norm(d) + norm(e)) * flat;
+                double need = distance(centre, mid) + radius + slack;
+                if (!std::isfinite(need)) need = HUGE_VAL;
                 if (everything || need <= r * (1.0 - 1e-12)) {
                     form(f, a, b, best);
                     return;
