@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include "fixtures.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/mesher.hpp"
@@ -261,4 +263,40 @@ TEST(Domain, TooSmallToComputeWithIsRefused) {
     const MeshResult r = generate_mesh(square(1e-29), d);
     for (const auto& v : check_mesh(r.mesh)) ADD_FAILURE() << v;
     EXPECT_GT(r.mesh.point_count(), 4u);
+}
+
+// Many holes against an outer loop of many edges: each hole is asked about once, against an
+// index of the outer loop's edges by horizontal bands (a plain scan cost holes x edges). The
+// answers must be those of the definition: one hole moved outside is named, by its index.
+TEST(Domain, ManyHolesInsideALongOuterLoopAndOneOutside) {
+    DomainSpec s;
+    SplineShape outer;
+    for (int i = 0; i <= 2000; ++i) {
+        const double t = 2.0 * std::numbers::pi * (i % 2000) / 2000.0;
+        const double r = 10.0 + 0.3 * std::sin(7.0 * t);  // a wavy circle
+        outer.through.push_back({r * std::cos(t), r * std::sin(t)});
+    }
+    s.curves.push_back({"outer", outer, std::nullopt, std::nullopt, std::string("far")});
+    s.loops.push_back(loop({"outer"}));
+    int n = 0;
+    for (int i = -12; i <= 12; ++i)
+        for (int j = -12; j <= 12; ++j) {
+            if (i * i + j * j > 12 * 12) continue;
+            const std::string h = "h" + std::to_string(n++);
+            const Vec2 c{0.6 * i, 0.6 * j};
+            s.points.push_back({h, c + Vec2{0.1, 0.0}});
+            s.curves.push_back(arc(h, h, h, c));
+            s.loops.push_back(loop({h.c_str()}));
+        }
+    ASSERT_GT(n, 400);
+    const Domain d = build_domain(s);
+    EXPECT_EQ(d.hole_count(), static_cast<size_t>(n));
+    // Hole 200 (loop 201) moved beyond the outer loop, in a trough of its waves.
+    const Vec2 away{11.0, 0.0};
+    s.points[200].second = away + Vec2{0.1, 0.0};
+    std::get<ArcShape>(s.curves[201].shape).center = away;
+    const GeometryError e = error_of(s);
+    EXPECT_EQ(e.kind(), GeometryErrorKind::HoleOutside);
+    ASSERT_FALSE(e.subjects().empty());
+    EXPECT_EQ(e.subjects()[0].index, 201);
 }

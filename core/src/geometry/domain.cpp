@@ -174,20 +174,73 @@ double signed_area(const std::vector<Vec2>& ring) {
     return 0.5 * a;
 }
 
-// Winding number of a closed polygon around p (non-zero: inside), with the exact orientation
-// predicate.
-int winding(const std::vector<Vec2>& ring, Vec2 p) {
-    int w = 0;
-    for (size_t i = 0, n = ring.size(); i < n; ++i) {
-        const Vec2 a = ring[i], b = ring[(i + 1) % n];
-        if (a.y <= p.y) {
-            if (b.y > p.y && orient2d(a, b, p) == Orientation::Left) ++w;
-        } else if (b.y <= p.y && orient2d(a, b, p) == Orientation::Right) {
-            --w;
+// Winding numbers of points around one closed polygon (non-zero: inside), with the exact
+// orientation predicate. The edges are bucketed by horizontal bands, so that a point meets
+// only the edges of its band: build_domain asks about every hole against the outer loop, and
+// a plain scan would cost holes x edges. The band count is cut back until the edges, each
+// listed in every band its y-range spans, fill at most 16 entries per edge.
+class RingIndex {
+public:
+    explicit RingIndex(const std::vector<Vec2>& ring) : ring_(ring) {
+        const size_t n = ring.size();
+        lo_ = HUGE_VAL;
+        hi_ = -HUGE_VAL;
+        for (Vec2 p : ring) lo_ = std::fmin(lo_, p.y), hi_ = std::fmax(hi_, p.y);
+        size_t bands = std::max<size_t>(1, n / 4);
+        for (;; bands = std::max<size_t>(1, bands / 2)) {
+            inv_ = hi_ > lo_ ? static_cast<double>(bands) / (hi_ - lo_) : 0.0;
+            bands_ = bands;
+            size_t entries = 0;
+            for (size_t i = 0; i < n; ++i) {
+                const auto [b0, b1] = span(ring[i].y, ring[(i + 1) % n].y);
+                entries += b1 - b0 + 1;
+            }
+            if (entries <= 16 * n + 16 || bands == 1) break;
+        }
+        start_.assign(bands_ + 1, 0);
+        for (size_t i = 0; i < n; ++i) {
+            const auto [b0, b1] = span(ring[i].y, ring[(i + 1) % n].y);
+            for (size_t b = b0; b <= b1; ++b) ++start_[b + 1];
+        }
+        for (size_t b = 0; b < bands_; ++b) start_[b + 1] += start_[b];
+        edges_.resize(start_.back());
+        std::vector<size_t> fill(start_.begin(), start_.end() - 1);
+        for (size_t i = 0; i < n; ++i) {
+            const auto [b0, b1] = span(ring[i].y, ring[(i + 1) % n].y);
+            for (size_t b = b0; b <= b1; ++b) edges_[fill[b]++] = static_cast<std::uint32_t>(i);
         }
     }
-    return w;
-}
+
+    int winding(Vec2 p) const {
+        if (!(p.y >= lo_ && p.y <= hi_)) return 0;  // above or below every edge
+        const size_t b = band(p.y);
+        int w = 0;
+        const size_t n = ring_.size();
+        for (size_t k = start_[b]; k < start_[b + 1]; ++k) {
+            const Vec2 a = ring_[edges_[k]], c = ring_[(edges_[k] + 1) % n];
+            if (a.y <= p.y) {
+                if (c.y > p.y && orient2d(a, c, p) == Orientation::Left) ++w;
+            } else if (c.y <= p.y && orient2d(a, c, p) == Orientation::Right) {
+                --w;
+            }
+        }
+        return w;
+    }
+
+private:
+    size_t band(double y) const {
+        const double f = std::floor((y - lo_) * inv_);
+        if (!(f > 0.0)) return 0;
+        return std::min(static_cast<size_t>(std::fmin(f, 1e18)), bands_ - 1);
+    }
+    std::pair<size_t, size_t> span(double y0, double y1) const { return {band(std::fmin(y0, y1)), band(std::fmax(y0, y1))}; }
+
+    const std::vector<Vec2>& ring_;
+    double lo_, hi_, inv_ = 0.0;
+    size_t bands_ = 1;
+    std::vector<size_t> start_;
+    std::vector<std::uint32_t> edges_;
+};
 
 Box box_of(const std::vector<Vec2>& pts) {
     Box b;
@@ -703,11 +756,17 @@ Domain build_domain(const DomainSpec& spec, Observer* observer) {
         if (std::fabs(loops[li].area) > std::fabs(loops[outer].area)) outer = li;
     std::vector<Box> boxes(loops.size());
     for (size_t li = 0; li < loops.size(); ++li) boxes[li] = box_of(rings[li]);
+    // Point-in-loop tests, each loop indexed when first asked about.
+    std::vector<std::unique_ptr<RingIndex>> ring_index(loops.size());
+    auto winding = [&](size_t li, Vec2 p) {
+        if (!ring_index[li]) ring_index[li] = std::make_unique<RingIndex>(rings[li]);
+        return ring_index[li]->winding(p);
+    };
     for (size_t li = 0; li < loops.size(); ++li) {
         if (li == outer) continue;
         poll();
         const Vec2 probe = rings[li].front();
-        if (!in_box(boxes[outer], probe) || winding(rings[outer], probe) == 0)
+        if (!in_box(boxes[outer], probe) || winding(outer, probe) == 0)
             throw GeometryError(K::HoleOutside,
                                 "loop " + std::to_string(li) + " is not inside the outer loop (loop " +
                                     std::to_string(outer) + ", the largest)",
@@ -725,7 +784,7 @@ Domain build_domain(const DomainSpec& spec, Observer* observer) {
                 const size_t a = holes[i], b = holes[j];
                 if (boxes[b].lo.x > boxes[a].hi.x) break;
                 const Vec2 probe = rings[a].front();
-                if (in_box(boxes[b], probe) && winding(rings[b], probe) != 0)
+                if (in_box(boxes[b], probe) && winding(b, probe) != 0)
                     throw GeometryError(K::HolesOverlap,
                                         "hole loop " + std::to_string(a) + " lies inside hole loop " +
                                             std::to_string(b),
@@ -733,7 +792,7 @@ Domain build_domain(const DomainSpec& spec, Observer* observer) {
             }
         }
     }
-    // Orientation: domain on the left.
+    // Orientation: domain on the left (winding numbers change sign; insideness does not).
     for (size_t li = 0; li < loops.size(); ++li) {
         DomainLoop& l = loops[li];
         l.hole = li != outer;
@@ -743,15 +802,16 @@ Domain build_domain(const DomainSpec& spec, Observer* observer) {
             for (CurveUse& u : l.items) u.reversed = !u.reversed;
             l.area = -l.area;
             std::reverse(rings[li].begin(), rings[li].end());
+            ring_index[li].reset();  // its edges are numbered along the ring
         }
     }
     // Embedded curves inside the domain: probe a flattened point away from the ends.
     for (size_t ei = 0; ei < d.embedded_.size(); ++ei) {
         const auto& f = flat[d.embedded_[ei]].points;
         const Vec2 probe = f.size() > 2 ? f[f.size() / 2] : 0.5 * (f.front() + f.back());
-        bool inside = winding(rings[outer], probe) != 0;
+        bool inside = winding(outer, probe) != 0;
         for (size_t li = 0; inside && li < loops.size(); ++li)
-            if (li != outer && in_box(boxes[li], probe) && winding(rings[li], probe) != 0) inside = false;
+            if (li != outer && in_box(boxes[li], probe) && winding(li, probe) != 0) inside = false;
         if (!inside)
             throw GeometryError(K::EmbeddedOutside,
                                 "embedded curve " + quoted(d.curves_[d.embedded_[ei]].name) +
