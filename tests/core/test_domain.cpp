@@ -267,8 +267,8 @@ TEST(Domain, TooSmallToComputeWithIsRefused) {
 
 // Many holes against an outer loop of many edges: each hole is asked about once, against an
 // index of the outer loop's edges by horizontal bands (a plain scan cost holes x edges). The
-// answers must be those of the definition: one hole moved outside is named, by its index.
-TEST(Domain, ManyHolesInsideALongOuterLoopAndOneOutside) {
+// answers must be those of the definition: a hole moved outside, or into another, is named.
+TEST(Domain, ManyHolesInsideALongOuterLoopOneOutsideOneInAnother) {
     DomainSpec s;
     SplineShape outer;
     for (int i = 0; i <= 2000; ++i) {
@@ -289,14 +289,25 @@ TEST(Domain, ManyHolesInsideALongOuterLoopAndOneOutside) {
             s.loops.push_back(loop({h.c_str()}));
         }
     ASSERT_GT(n, 400);
+    const DomainSpec base = s;
     const Domain d = build_domain(s);
     EXPECT_EQ(d.hole_count(), static_cast<size_t>(n));
-    // Hole 200 (loop 201) moved beyond the outer loop, in a trough of its waves.
+    // Hole 200 (point 200, curve and loop 201) moved beyond the outer loop.
     const Vec2 away{11.0, 0.0};
     s.points[200].second = away + Vec2{0.1, 0.0};
     std::get<ArcShape>(s.curves[201].shape).center = away;
-    const GeometryError e = error_of(s);
+    GeometryError e = error_of(s);
     EXPECT_EQ(e.kind(), GeometryErrorKind::HoleOutside);
     ASSERT_FALSE(e.subjects().empty());
     EXPECT_EQ(e.subjects()[0].index, 201);
+    // Hole 300 shrunk into hole 100: named as inside it.
+    s = base;
+    const Vec2 c100 = std::get<ArcShape>(s.curves[101].shape).center;
+    s.points[300].second = c100 + Vec2{0.05, 0.0};
+    std::get<ArcShape>(s.curves[301].shape).center = c100;
+    e = error_of(s);
+    EXPECT_EQ(e.kind(), GeometryErrorKind::HolesOverlap);
+    ASSERT_EQ(e.subjects().size(), 2u);
+    EXPECT_EQ(e.subjects()[0].index, 301);
+    EXPECT_EQ(e.subjects()[1].index, 101);
 }

@@ -772,24 +772,31 @@ Domain build_domain(const DomainSpec& spec, Observer* observer) {
                                     std::to_string(outer) + ", the largest)",
                                 {Subject::loop(static_cast<int>(li))});
     }
-    // Holes apart: no hole inside another. Sorting by box lets each probe meet few boxes.
+    // Holes apart: no hole inside another. Only holes whose box holds a probe can hold it:
+    // the boxes go into the size-class grid (each as the segment along its diagonal), where a
+    // probe meets one cell per class.
     {
         std::vector<size_t> holes;
-        for (size_t li = 0; li < loops.size(); ++li)
-            if (li != outer) holes.push_back(li);
-        std::sort(holes.begin(), holes.end(), [&](size_t a, size_t b) { return boxes[a].lo.x < boxes[b].lo.x; });
-        for (size_t i = 0; i < holes.size(); ++i) {
-            for (size_t j = 0; j < holes.size(); ++j) {
-                if (i == j) continue;
-                const size_t a = holes[i], b = holes[j];
-                if (boxes[b].lo.x > boxes[a].hi.x) break;
-                const Vec2 probe = rings[a].front();
-                if (in_box(boxes[b], probe) && winding(b, probe) != 0)
+        detail::SegmentSoup box_soup;
+        for (size_t li = 0; li < loops.size(); ++li) {
+            if (li == outer) continue;
+            const auto k = static_cast<std::uint32_t>(box_soup.points.size());
+            box_soup.points.push_back(boxes[li].lo);
+            box_soup.points.push_back(boxes[li].hi);
+            box_soup.segments.push_back({k, k + 1});
+            holes.push_back(li);
+        }
+        const detail::SegmentGrid box_grid(box_soup, 0.0);
+        for (const size_t a : holes) {
+            poll();
+            const Vec2 probe = rings[a].front();
+            box_grid.near(probe, [&](std::uint32_t i) {
+                const size_t b = holes[i];
+                if (b != a && in_box(boxes[b], probe) && winding(b, probe) != 0)
                     throw GeometryError(K::HolesOverlap,
-                                        "hole loop " + std::to_string(a) + " lies inside hole loop " +
-                                            std::to_string(b),
+                                        "hole loop " + std::to_string(a) + " lies inside hole loop " + std::to_string(b),
                                         {Subject::loop(static_cast<int>(a)), Subject::loop(static_cast<int>(b))});
-            }
+            });
         }
     }
     // Orientation: domain on the left (winding numbers change sign; insideness does not).
