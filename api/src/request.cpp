@@ -19,7 +19,7 @@ namespace {
 // the mesh, is kept by NameOrder below instead.
 using json = nlohmann::json;
 
-// Fed by the parser's events: finds the first member name that occurs twice in one object
+// Fed by a second, SAX pass over the body: finds the first member name that occurs twice in one object
 // (RFC 8259 leaves the meaning of such a document open: one of the two would be dropped
 // silently), as the JSON pointer of the second occurrence; and keeps the document order of
 // the names in the objects whose order matters (kOrdered).
@@ -27,32 +27,40 @@ class NameOrder {
 public:
     static constexpr const char* kOrdered[] = {"/geometry/points", "/geometry/curves", "/density/curves"};
 
-    bool on_event(json::parse_event_t event, const json& parsed) {
-        using E = json::parse_event_t;
-        switch (event) {
-            case E::object_start: stack_.push_back({false, 0, {}, {}, depth_pointer()}); break;
-            case E::array_start: stack_.push_back({true, 0, {}, {}, {}}); break;
-            case E::key: {
-                Frame& f = stack_.back();
-                f.key = parsed.get<std::string>();
-                if (!f.seen.insert(f.key).second && !found_) {
-                    found_ = pointer();
-                    name_ = f.key;
-                }
-                for (const char* o : kOrdered)
-                    if (f.pointer == o) order_[o].push_back(f.key);
-                break;
-            }
-            case E::object_end:
-            case E::array_end:
-                stack_.pop_back();
-                [[fallthrough]];
-            case E::value:
-                if (!stack_.empty() && stack_.back().array) ++stack_.back().index;
-                break;
-        }
+    // A SAX handler (nlohmann's json_sax interface), run over the body once the DOM parse has
+    // found it valid JSON. (A parser callback would do the same in one pass, but nlohmann's
+    // callback parser scans the enclosing object at every nested object's end: quadratic in
+    // the curves of a request.)
+    bool start_object(std::size_t) {
+        stack_.push_back({false, 0, {}, {}, depth_pointer()});
         return true;
     }
+    bool start_array(std::size_t) {
+        stack_.push_back({true, 0, {}, {}, {}});
+        return true;
+    }
+    bool key(std::string& k) {
+        Frame& f = stack_.back();
+        f.key = k;
+        if (!f.seen.insert(f.key).second && !found_) {
+            found_ = pointer();
+            name_ = f.key;
+        }
+        for (const char* o : kOrdered)
+            if (f.pointer == o) order_[o].push_back(f.key);
+        return true;
+    }
+    bool end_object() { return end(); }
+    bool end_array() { return end(); }
+    bool null() { return value(); }
+    bool boolean(bool) { return value(); }
+    bool number_integer(json::number_integer_t) { return value(); }
+    bool number_unsigned(json::number_unsigned_t) { return value(); }
+    bool number_float(json::number_float_t, const std::string&) { return value(); }
+    bool string(std::string&) { return value(); }
+    bool binary(json::binary_t&) { return value(); }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) { return false; }
+
     /// The pointer of the repeated member, and its name.
     const std::optional<std::string>& found() const { return found_; }
     const std::string& name() const { return name_; }
@@ -64,6 +72,15 @@ public:
     }
 
 private:
+    bool end() {
+        stack_.pop_back();
+        return value();
+    }
+    bool value() {
+        if (!stack_.empty() && stack_.back().array) ++stack_.back().index;
+        return true;
+    }
+
     struct Frame {
         bool array;
         size_t index;             // arrays: the element being read
@@ -416,9 +433,8 @@ MeshRequest parse_request(std::string_view body) {
     json j;
     NameOrder names;
     try {
-        j = json::parse(body.begin(), body.end(), [&](int, json::parse_event_t event, json& parsed) {
-            return names.on_event(event, parsed);
-        });
+        j = json::parse(body.begin(), body.end());
+        json::sax_parse(body.begin(), body.end(), &names);
     } catch (const json::parse_error& e) {
         throw bad_request("malformed-json", "Malformed request",
                           "the body is not valid JSON (at byte " + std::to_string(e.byte) + ")", "");
