@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
     if (format_name.empty()) format_name = "json";
     const auto format = api::parse_format(format_name);
     if (!format) {
-        std::fprintf(stderr, "meshd-cli: unknown format \"%s\" (json, vtk, su2, msh, svg, foam)\n", format_name.c_str());
+        std::fprintf(stderr, "meshd-cli: unknown format \"%s\" (%s)\n", format_name.c_str(), api::format_list().c_str());
         return 1;
     }
     std::string body;

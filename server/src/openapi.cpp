@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "meshd/api/schema.hpp"
+#include "meshd/api/writers.hpp"
 #include "meshd/server/service.hpp"
 
 namespace meshd::server {
@@ -21,12 +22,15 @@ json mesh_content() {
     return {{"application/json", {{"schema", ref("MeshResponse")}}},
             {"application/octet-stream", {{"schema", {{"type", "string"}, {"format", "binary"}}}}},
             {"text/plain", {{"schema", {{"type", "string"}}}}},
-            {"image/svg+xml", {{"schema", {{"type", "string"}}}}}};
+            {"image/svg+xml", {{"schema", {{"type", "string"}}}}},
+            {"application/x-tar", {{"schema", {{"type", "string"}, {"format", "binary"}}}}}};
 }
 
 json format_param() {
+    json names = json::array();
+    for (const api::Format f : api::kFormats) names.push_back(api::format_name(f));
     return {{"name", "format"}, {"in", "query"}, {"required", false},
-            {"schema", {{"type", "string"}, {"enum", {"json", "vtk", "su2", "msh", "svg", "foam"}}, {"default", "json"}}}};
+            {"schema", {{"type", "string"}, {"enum", names}, {"default", "json"}}}};
 }
 
 json id_param() {

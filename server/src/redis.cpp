@@ -133,64 +133,61 @@ void Connection::open() {
     if (endpoint_.db != 0) must({"SELECT", std::to_string(endpoint_.db)}, "SELECT");
 }
 
+void Connection::fail() {
+    const std::string why = context_->errstr;
+    drop();
+    throw Unavailable("store " + endpoint_.describe() + ": " + why);
+}
+
 Reply Connection::run(size_t argc, const char** argv, const size_t* lens) {
     if (!context_) open();
     void* raw = redisCommandArgv(context_, static_cast<int>(argc), argv, lens);
-    if (!raw) {
-        const std::string why = context_->errstr;
-        drop();
-        throw Unavailable("store " + endpoint_.describe() + ": " + why);
-    }
+    if (!raw) fail();
     auto* reply = static_cast<redisReply*>(raw);
     Reply out = convert(reply);
     freeReplyObject(reply);
     return out;
 }
 
-Reply Connection::command(std::initializer_list<std::string_view> args) {
-    std::vector<const char*> argv;
+namespace {
+
+// A command's arguments as hiredis takes them: pointers and lengths (binary safe).
+struct Argv {
+    std::vector<const char*> ptrs;
     std::vector<size_t> lens;
-    for (std::string_view a : args) {
-        argv.push_back(a.data());
-        lens.push_back(a.size());
+    template <class Range>
+    explicit Argv(const Range& args) {
+        for (const auto& a : args) {
+            ptrs.push_back(a.data());
+            lens.push_back(a.size());
+        }
     }
-    return run(argv.size(), argv.data(), lens.data());
+    int count() const { return static_cast<int>(ptrs.size()); }
+};
+
+}  // namespace
+
+Reply Connection::command(std::initializer_list<std::string_view> args) {
+    Argv argv(args);
+    return run(argv.ptrs.size(), argv.ptrs.data(), argv.lens.data());
 }
 
 Reply Connection::command(const std::vector<std::string>& args) {
-    std::vector<const char*> argv;
-    std::vector<size_t> lens;
-    for (const std::string& a : args) {
-        argv.push_back(a.data());
-        lens.push_back(a.size());
-    }
-    return run(argv.size(), argv.data(), lens.data());
+    Argv argv(args);
+    return run(argv.ptrs.size(), argv.ptrs.data(), argv.lens.data());
 }
 
 std::vector<Reply> Connection::pipeline(const std::vector<std::vector<std::string>>& commands) {
     if (!context_) open();
     for (const auto& args : commands) {
-        std::vector<const char*> argv;
-        std::vector<size_t> lens;
-        for (const std::string& a : args) {
-            argv.push_back(a.data());
-            lens.push_back(a.size());
-        }
-        if (redisAppendCommandArgv(context_, static_cast<int>(argv.size()), argv.data(), lens.data()) != REDIS_OK) {
-            const std::string why = context_->errstr;
-            drop();
-            throw Unavailable("store " + endpoint_.describe() + ": " + why);
-        }
+        Argv argv(args);
+        if (redisAppendCommandArgv(context_, argv.count(), argv.ptrs.data(), argv.lens.data()) != REDIS_OK) fail();
     }
     std::vector<Reply> out;
     out.reserve(commands.size());
     for (size_t i = 0; i < commands.size(); ++i) {
         void* raw = nullptr;
-        if (redisGetReply(context_, &raw) != REDIS_OK || !raw) {
-            const std::string why = context_->errstr;
-            drop();
-            throw Unavailable("store " + endpoint_.describe() + ": " + why);
-        }
+        if (redisGetReply(context_, &raw) != REDIS_OK || !raw) fail();
         auto* reply = static_cast<redisReply*>(raw);
         out.push_back(convert(reply));
         freeReplyObject(reply);

@@ -74,6 +74,8 @@ private:
     void open();
     void drop();
     Reply run(size_t argc, const char** argv, const size_t* lens);
+    /// The connection failed: dropped (the next command reopens it), Unavailable thrown.
+    [[noreturn]] void fail();
 
     Endpoint endpoint_;
     std::chrono::milliseconds timeout_;

@@ -122,7 +122,7 @@ std::optional<api::Format> format_of(const httplib::Request& req, httplib::Respo
     auto f = api::parse_format(name);
     if (!f)
         send_problem(res, problem(400, "unknown-format", "Unknown format",
-                                  "format \"" + name + "\" is not one of json, vtk, su2, msh, svg, foam"));
+                                  "format \"" + name + "\" is not one of " + api::format_list()));
     return f;
 }
 

@@ -16,18 +16,9 @@ from dolfinx.io import gmshio
 from mpi4py import MPI
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from msh_topology import CUT_TO_HOLE  # noqa: E402
+from common import check, finish, write_cut_to_hole  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what)
-
-
 def edge_key(p, q):
     a, b = tuple(np.round(p[:2], 12)), tuple(np.round(q[:2], 12))
     return (a, b) if a <= b else (b, a)
@@ -64,8 +55,7 @@ def compare(msh, answer, name):
 
 
 with tempfile.TemporaryDirectory() as tmp:
-    cut = os.path.join(tmp, "cut.json")
-    json.dump(CUT_TO_HOLE, open(cut, "w"))
+    cut = write_cut_to_hole(tmp)
     for name, request in [("naca0012", os.path.join(examples, "naca0012.json")),
                           ("fig11", os.path.join(examples, "fig11.json")), ("cut-to-hole", cut)]:
         msh, answer = os.path.join(tmp, name + ".msh"), os.path.join(tmp, name + ".json")
@@ -73,7 +63,4 @@ with tempfile.TemporaryDirectory() as tmp:
         subprocess.run([cli, request, "-o", answer, "--quiet"], check=True)
         compare(msh, answer, name)
 
-if failures:
-    print(f"{len(failures)} checks failed")
-    sys.exit(1)
-print("dolfinx facet tags: all checks passed")
+finish("dolfinx facet tags: all checks passed")

@@ -7,7 +7,6 @@ Fig. 10 (open curves meeting at corners), Fig. 11 (two holes) and a plate whose 
 ends on a hole's circle (the circle split there).
 
 usage: msh_topology.py MESHD_CLI EXAMPLES_DIR"""
-import json
 import os
 import subprocess
 import sys
@@ -15,29 +14,8 @@ import tempfile
 
 import gmsh
 
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what)
-
-
-CUT_TO_HOLE = {
-    "geometry": {
-        "points": {"A": [0, 0], "B": [4, 0], "C": [4, 2], "D": [0, 2], "H": [2.5, 1],
-                   "T": [2.0, 1.5], "Q": [2.0, 1.9]},
-        "curves": {
-            "bottom": {"type": "line", "from": "A", "to": "B", "tag": "wall"},
-            "right": {"type": "line", "from": "B", "to": "C", "tag": "outlet"},
-            "top": {"type": "line", "from": "C", "to": "D", "tag": "wall"},
-            "left": {"type": "line", "from": "D", "to": "A", "tag": "inlet"},
-            "hole": {"type": "arc", "from": "H", "to": "H", "center": [2, 1], "tag": "cylinder"},
-            "cut": {"type": "line", "from": "T", "to": "Q", "tag": "cut"}},
-        "loops": [["bottom", "right", "top", "left"], ["hole"]],
-        "embedded": ["cut"]},
-    "density": {"size": 0.08}}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from common import check, finish, write_cut_to_hole  # noqa: E402
 
 
 def topology(path, name):
@@ -115,17 +93,12 @@ def main():
         cases = [("naca0012", os.path.join(examples, "naca0012.json"), 2),
                  ("fig10", os.path.join(examples, "fig10.json"), 1),
                  ("fig11", os.path.join(examples, "fig11.json"), 3)]
-        cut = os.path.join(tmp, "cut.json")
-        json.dump(CUT_TO_HOLE, open(cut, "w"))
-        cases.append(("cut-to-hole", cut, 2))
+        cases.append(("cut-to-hole", write_cut_to_hole(tmp), 2))
         for name, request, loops in cases:
             path = os.path.join(tmp, name + ".msh")
             subprocess.run([cli, request, "-o", path, "--quiet"], check=True)
             check(topology(path, name) == loops, f"{name}: {loops} loops bound the surface")
-    if failures:
-        print(f"{len(failures)} checks failed")
-        sys.exit(1)
-    print("msh topology: all checks passed")
+    finish("msh topology: all checks passed")
 
 
 if __name__ == "__main__":

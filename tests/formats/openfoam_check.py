@@ -17,10 +17,9 @@ import tempfile
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from msh_topology import CUT_TO_HOLE  # noqa: E402
+from common import check, finish, write_cut_to_hole  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
-failures = []
 
 SYSTEM = {
     "controlDict": "application simpleFoam; startFrom startTime; startTime 0; stopAt endTime; endTime 1;\n"
@@ -30,12 +29,6 @@ SYSTEM = {
                  "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n",
     "fvSolution": "",
 }
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what)
 
 
 def case_of(archive, where):
@@ -63,8 +56,7 @@ def slab(case):
 
 
 with tempfile.TemporaryDirectory() as tmp:
-    cut = os.path.join(tmp, "cut.json")
-    json.dump(CUT_TO_HOLE, open(cut, "w"))
+    cut = write_cut_to_hole(tmp)
     walls = json.load(open(os.path.join(examples, "naca0012.json")))
     walls.setdefault("options", {}).update({"patch_types": {"wall": "wall"}, "slab_thickness": 0.5})
     typed = os.path.join(tmp, "walls.json")
@@ -140,7 +132,4 @@ with tempfile.TemporaryDirectory() as tmp:
     check(run.returncode == 0 and "\nEnd" in out and cont is not None and float(cont.group(1)) < 1e-6,
           "potentialFoam runs on the NACA 0012 mesh: exit %d, %s" % (run.returncode, cont.group(0) if cont else out[-300:]))
 
-if failures:
-    print(f"{len(failures)} checks failed")
-    sys.exit(1)
-print("openfoam: checkMesh and potentialFoam, all checks passed")
+finish("openfoam: checkMesh and potentialFoam, all checks passed")

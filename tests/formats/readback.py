@@ -15,14 +15,10 @@ import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from common import check, finish  # noqa: E402
+
 cli, examples = sys.argv[1], sys.argv[2]
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what)
 
 
 with tempfile.TemporaryDirectory() as tmp:
@@ -96,7 +92,4 @@ with tempfile.TemporaryDirectory() as tmp:
     check(sum(len(x) for x in elems) == len(tris), "gmsh: triangles")
     gmsh.finalize()
 
-if failures:
-    print(f"{len(failures)} checks failed")
-    sys.exit(1)
-print("all formats read back")
+finish("all formats read back")

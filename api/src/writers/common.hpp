@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <ostream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -58,15 +59,15 @@ inline std::vector<std::vector<const core::MeshEdge*>> edges_by_tag(const Mesh& 
 /// refuses becomes '_'; two tags that then read alike stay apart (the later gets "_2", "_3",
 /// ...); names in `taken` are avoided the same way (docs/api.md, "Tags in files").
 template <class Keep>
-std::vector<std::string> tag_names(const std::vector<std::string>& tags, Keep keep, std::vector<std::string> taken = {}) {
+std::vector<std::string> tag_names(const std::vector<std::string>& tags, Keep keep, std::set<std::string> taken = {}) {
     std::vector<std::string> out;
     for (const std::string& t : tags) {
         std::string base = t;
         for (char& c : base)
             if (!keep(c)) c = '_';
         std::string name = base;
-        for (int k = 2; std::find(taken.begin(), taken.end(), name) != taken.end(); ++k) name = base + "_" + std::to_string(k);
-        taken.push_back(name);
+        for (int k = 2; taken.count(name); ++k) name = base + "_" + std::to_string(k);
+        taken.insert(name);
         out.push_back(name);
     }
     return out;

@@ -10,13 +10,15 @@ namespace meshd::api {
 using namespace writers;
 
 std::optional<Format> parse_format(std::string_view n) {
-    if (n == "json") return Format::Json;
-    if (n == "vtk") return Format::Vtk;
-    if (n == "su2") return Format::Su2;
-    if (n == "msh") return Format::Msh;
-    if (n == "svg") return Format::Svg;
-    if (n == "foam") return Format::Foam;
+    for (const Format f : kFormats)
+        if (n == format_name(f)) return f;
     return std::nullopt;
+}
+
+std::string format_list() {
+    std::string out;
+    for (const Format f : kFormats) out += (out.empty() ? "" : ", ") + std::string(format_name(f));
+    return out;
 }
 
 const char* format_name(Format f) {

@@ -42,6 +42,7 @@ std::vector<CurveEntity> curve_entities(const Mesh& m, std::vector<std::vector<s
             nodes_of[m.curve[v]].push_back(v);
     of_curve.assign(ncurve_ids, {});
     std::vector<CurveEntity> out;
+    std::vector<size_t> rank(m.point_count(), 0);  // a node's place along its closed curve
     for (core::CurveId c = 0; c < ncurve_ids; ++c) {
         if (edges_of[c].empty()) continue;
         std::vector<core::VertexId>& nodes = nodes_of[c];
@@ -56,8 +57,7 @@ std::vector<CurveEntity> curve_entities(const Mesh& m, std::vector<std::vector<s
         // Closed: ranks along the curve (the closing point before the first node for the edge
         // that leaves it, after the last for the edge that comes back), split at rank k / 2.
         const size_t k = nodes.size(), mid = k / 2;
-        std::vector<size_t> rank(m.point_count(), 0);
-        for (size_t i = 0; i < k; ++i) rank[nodes[i]] = i;
+        for (size_t i = 0; i < k; ++i) rank[nodes[i]] = i;  // only this curve's nodes are read
         CurveEntity first{c, {}, {}, ends[0], nodes[mid]}, second{c, {}, {}, nodes[mid], ends[1]};
         first.nodes.assign(nodes.begin(), nodes.begin() + static_cast<std::ptrdiff_t>(mid));
         second.nodes.assign(nodes.begin() + static_cast<std::ptrdiff_t>(mid) + 1, nodes.end());

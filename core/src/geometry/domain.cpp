@@ -248,10 +248,6 @@ Box box_of(const std::vector<Vec2>& pts) {
     return b;
 }
 
-bool in_box(const Box& b, Vec2 p) {
-    return p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y;
-}
-
 std::string quoted(const std::string& s) { return "\"" + s + "\""; }
 
 // The parameter in [ta, tb] of the point of curve c nearest q, by golden-section search (the
@@ -766,40 +762,55 @@ Domain build_domain(const DomainSpec& spec, Observer* observer) {
         if (li == outer) continue;
         poll();
         const Vec2 probe = rings[li].front();
-        if (!in_box(boxes[outer], probe) || winding(outer, probe) == 0)
+        if (!boxes[outer].contains(probe) || winding(outer, probe) == 0)
             throw GeometryError(K::HoleOutside,
                                 "loop " + std::to_string(li) + " is not inside the outer loop (loop " +
                                     std::to_string(outer) + ", the largest)",
                                 {Subject::loop(static_cast<int>(li))});
     }
-    // Holes apart: no hole inside another. Only holes whose box holds a probe can hold it:
-    // the boxes go into the size-class grid (each as the segment along its diagonal), where a
-    // probe meets one cell per class.
-    {
-        std::vector<size_t> holes;
-        detail::SegmentSoup box_soup;
-        for (size_t li = 0; li < loops.size(); ++li) {
-            if (li == outer) continue;
-            const auto k = static_cast<std::uint32_t>(box_soup.points.size());
-            box_soup.points.push_back(boxes[li].lo);
-            box_soup.points.push_back(boxes[li].hi);
-            box_soup.segments.push_back({k, k + 1});
-            holes.push_back(li);
-        }
-        const detail::SegmentGrid box_grid(box_soup, 0.0);
-        for (const size_t a : holes) {
-            poll();
-            const Vec2 probe = rings[a].front();
-            box_grid.near(probe, [&](std::uint32_t i) {
-                const size_t b = holes[i];
-                if (b != a && in_box(boxes[b], probe) && winding(b, probe) != 0)
-                    throw GeometryError(K::HolesOverlap,
-                                        "hole loop " + std::to_string(a) + " lies inside hole loop " + std::to_string(b),
-                                        {Subject::loop(static_cast<int>(a)), Subject::loop(static_cast<int>(b))});
-            });
-        }
+    // The holes whose box holds a point: the boxes go into the size-class grid (each as the
+    // segment along its diagonal), where a point meets one cell per class.
+    std::vector<size_t> holes;
+    detail::SegmentSoup box_soup;
+    for (size_t li = 0; li < loops.size(); ++li) {
+        if (li == outer) continue;
+        const auto k = static_cast<std::uint32_t>(box_soup.points.size());
+        box_soup.points.push_back(boxes[li].lo);
+        box_soup.points.push_back(boxes[li].hi);
+        box_soup.segments.push_back({k, k + 1});
+        holes.push_back(li);
     }
-    // Orientation: domain on the left (winding numbers change sign; insideness does not).
+    const detail::SegmentGrid box_grid(box_soup, 0.0);
+    // The hole holding p other than `except` (a loop index), if any.
+    auto hole_holding = [&](Vec2 p, size_t except) {
+        std::optional<size_t> found;
+        box_grid.near(p, [&](std::uint32_t i) {
+            const size_t b = holes[i];
+            if (!found && b != except && boxes[b].contains(p) && winding(b, p) != 0) found = b;
+        });
+        return found;
+    };
+    // Holes apart: no hole inside another.
+    for (const size_t a : holes) {
+        poll();
+        if (const auto b = hole_holding(rings[a].front(), a))
+            throw GeometryError(K::HolesOverlap,
+                                "hole loop " + std::to_string(a) + " lies inside hole loop " + std::to_string(*b),
+                                {Subject::loop(static_cast<int>(a)), Subject::loop(static_cast<int>(*b))});
+    }
+    // Embedded curves inside the domain: probe a flattened point away from the ends.
+    for (size_t ei = 0; ei < d.embedded_.size(); ++ei) {
+        poll();
+        const auto& f = flat[d.embedded_[ei]].points;
+        const Vec2 probe = f.size() > 2 ? f[f.size() / 2] : 0.5 * (f.front() + f.back());
+        if (winding(outer, probe) == 0 || hole_holding(probe, outer))
+            throw GeometryError(K::EmbeddedOutside,
+                                "embedded curve " + quoted(d.curves_[d.embedded_[ei]].name) +
+                                    " lies outside the domain",
+                                {Subject::embedded(embedded_at[ei]),
+                                 Subject::curve(d.curves_[d.embedded_[ei]].name)});
+    }
+    // Orientation: domain on the left.
     for (size_t li = 0; li < loops.size(); ++li) {
         DomainLoop& l = loops[li];
         l.hole = li != outer;
@@ -809,22 +820,7 @@ Domain build_domain(const DomainSpec& spec, Observer* observer) {
             for (CurveUse& u : l.items) u.reversed = !u.reversed;
             l.area = -l.area;
             std::reverse(rings[li].begin(), rings[li].end());
-            ring_index[li].reset();  // its edges are numbered along the ring
         }
-    }
-    // Embedded curves inside the domain: probe a flattened point away from the ends.
-    for (size_t ei = 0; ei < d.embedded_.size(); ++ei) {
-        const auto& f = flat[d.embedded_[ei]].points;
-        const Vec2 probe = f.size() > 2 ? f[f.size() / 2] : 0.5 * (f.front() + f.back());
-        bool inside = winding(outer, probe) != 0;
-        for (size_t li = 0; inside && li < loops.size(); ++li)
-            if (li != outer && in_box(boxes[li], probe) && winding(li, probe) != 0) inside = false;
-        if (!inside)
-            throw GeometryError(K::EmbeddedOutside,
-                                "embedded curve " + quoted(d.curves_[d.embedded_[ei]].name) +
-                                    " lies outside the domain",
-                                {Subject::embedded(embedded_at[ei]),
-                                 Subject::curve(d.curves_[d.embedded_[ei]].name)});
     }
 
     for (const auto& r : rings) d.box_.add(box_of(r));

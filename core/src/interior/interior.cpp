@@ -210,8 +210,6 @@ private:
         return home_[v];
     }
 
-    bool in_box(Vec2 p) const { return p.x >= box_.lo.x && p.x <= box_.hi.x && p.y >= box_.lo.y && p.y <= box_.hi.y; }
-
     void step(std::uint32_t s) {
         const FrontSegment seg = front_[s];
         const Vec2 a = pts_[seg.a], b = pts_[seg.b];
@@ -228,7 +226,7 @@ private:
         }
         // Outside the domain's box (far outside when the radii are very unequal): no search
         // should span the plane for it, nor rho be asked there.
-        if (!in_box(c)) {
+        if (!box_.contains(c)) {
             ++stats_.rejected_outside;
             front_[s].alive = false;
             return;
@@ -240,7 +238,7 @@ private:
             // less than 1e-3 and cost 9% of this stage.)
             Vec2 c2;
             if (candidate(a, b, 0.5 * (ra + rc), 0.5 * (rb + rc), seg.boundary, c2) &&
-                orient2d(a, b, c2) == Orientation::Left && in_box(c2)) {
+                orient2d(a, b, c2) == Orientation::Left && box_.contains(c2)) {
                 c = c2;
                 rc = rho_.interior(c);
             }

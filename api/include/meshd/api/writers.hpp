@@ -15,8 +15,12 @@ namespace meshd::api {
 
 enum class Format { Json, Vtk, Su2, Msh, Svg, Foam };
 
+inline constexpr Format kFormats[] = {Format::Json, Format::Vtk, Format::Su2, Format::Msh, Format::Svg, Format::Foam};
+
 std::optional<Format> parse_format(std::string_view name);
 const char* format_name(Format f);
+/// Every format's name, joined by ", " (for messages).
+std::string format_list();
 const char* content_type(Format f);
 
 /// The metrics object of the JSON response (docs/api.md), as JSON text.

@@ -46,6 +46,8 @@ struct Box {
         if (!b.empty()) { add(b.lo); add(b.hi); }
     }
     bool empty() const { return lo.x > hi.x; }
+    /// p in the box, its sides included.
+    bool contains(Vec2 p) const { return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y; }
     double diagonal() const { return empty() ? 0.0 : distance(lo, hi); }
 };
 

@@ -1,0 +1,46 @@
+"""What the read-back scripts of tests/formats share: the checks they count, and a domain
+with an embedded cut that ends on a hole's circle (the circle split there)."""
+import json
+import os
+import sys
+
+failures = []
+
+
+def check(cond, what):
+    """Records a failed check (the script goes on, to report every failure)."""
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def finish(passed):
+    """Exits 1 after any failed check, else prints `passed`."""
+    if failures:
+        print(f"{len(failures)} checks failed")
+        sys.exit(1)
+    print(passed)
+
+
+CUT_TO_HOLE = {
+    "geometry": {
+        "points": {"A": [0, 0], "B": [4, 0], "C": [4, 2], "D": [0, 2], "H": [2.5, 1],
+                   "T": [2.0, 1.5], "Q": [2.0, 1.9]},
+        "curves": {
+            "bottom": {"type": "line", "from": "A", "to": "B", "tag": "wall"},
+            "right": {"type": "line", "from": "B", "to": "C", "tag": "outlet"},
+            "top": {"type": "line", "from": "C", "to": "D", "tag": "wall"},
+            "left": {"type": "line", "from": "D", "to": "A", "tag": "inlet"},
+            "hole": {"type": "arc", "from": "H", "to": "H", "center": [2, 1], "tag": "cylinder"},
+            "cut": {"type": "line", "from": "T", "to": "Q", "tag": "cut"}},
+        "loops": [["bottom", "right", "top", "left"], ["hole"]],
+        "embedded": ["cut"]},
+    "density": {"size": 0.08}}
+
+
+def write_cut_to_hole(directory):
+    """CUT_TO_HOLE as a request file in `directory`; its path."""
+    path = os.path.join(directory, "cut.json")
+    with open(path, "w") as f:
+        json.dump(CUT_TO_HOLE, f)
+    return path
