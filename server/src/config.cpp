@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "meshd/core/mesher.hpp"
+#include "redis.hpp"
 
 namespace meshd::server {
 
@@ -74,6 +75,16 @@ const std::vector<Option>& options() {
          [](Config& c, const std::string& v) { c.max_finished_jobs = static_cast<size_t>(to_int("--max-finished-jobs", v, 1, 10'000'000)); }},
         {"--drain-s", "MESHD_DRAIN_S", "grace for running jobs on SIGTERM (default 30)",
          [](Config& c, const std::string& v) { c.drain_s = to_double("--drain-s", v, 0.0); }},
+        {"--store", "MESHD_STORE", "where jobs live: memory (default), or redis://[:password@]host[:port][/db] or unix:///socket[?db=N] shared by replicas (password better in MESHD_STORE_PASSWORD)",
+         [](Config& c, const std::string& v) {
+             if (v.rfind("rediss://", 0) == 0)
+                 throw std::invalid_argument("--store: TLS (rediss://) needs hiredis 1.0 or later, and Debian 12 has 0.14: "
+                                             "reach Redis over a private network, a unix socket or a TLS tunnel (stunnel)");
+             if (v != "memory") redis::parse_url(v);  // refused here, with its reason, not at the first job
+             c.store = v;
+         }},
+        {"--lease-s", "MESHD_LEASE_S", "a running job's lease in a shared store: its replica silent this long, another runs it (default 10)",
+         [](Config& c, const std::string& v) { c.lease_s = to_double("--lease-s", v, 0.05); }},
         {"--log-level", "MESHD_LOG_LEVEL", "trace, debug, info, warn, error, off (default info)",
          [](Config& c, const std::string& v) {
              static const std::map<std::string, int> ok{{"trace", 0}, {"debug", 0}, {"info", 0}, {"warn", 0}, {"error", 0}, {"off", 0}};
@@ -92,6 +103,7 @@ Config parse_config(const std::vector<std::string>& args, bool& help) {
     for (const Option& o : options())
         if (const char* e = std::getenv(o.env)) o.set(c, e);
     if (const char* e = std::getenv("MESHD_LOG_JSON")) c.log_json = std::string(e) == "1" || std::string(e) == "true";
+    if (const char* e = std::getenv("MESHD_STORE_PASSWORD")) c.store_password = e;
     for (size_t i = 0; i < args.size(); ++i) {
         std::string a = args[i], value;
         if (a == "--help" || a == "-h") {

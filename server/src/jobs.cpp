@@ -21,6 +21,12 @@ const char* to_string(JobStatus s) {
     return "?";
 }
 
+std::optional<JobStatus> parse_status(const std::string& s) {
+    for (JobStatus v : {JobStatus::Queued, JobStatus::Running, JobStatus::Succeeded, JobStatus::Failed, JobStatus::Cancelled})
+        if (s == to_string(v)) return v;
+    return std::nullopt;
+}
+
 namespace {
 
 // Progress, cancellation and the memory reservation of one job, as the core sees them.
@@ -88,16 +94,21 @@ std::string JobManager::new_id() {
     return id;
 }
 
-std::shared_ptr<Job> JobManager::submit(api::MeshRequest request, double parse_s) {
-    auto job = std::make_shared<Job>();
-    job->parse_s = parse_s;
-    job->foam = request.foam;
+void JobManager::take_request(Job& job, api::MeshRequest request) const {
+    job.foam = request.foam;
     // The server's point limit, unless the request asks for fewer.
     const size_t cap = config_.max_points;
     size_t& asked = request.options.max_points;
-    job->server_point_limit = asked == 0 || asked > cap;
-    asked = job->server_point_limit ? cap : asked;
-    job->request = std::move(request);
+    job.server_point_limit = asked == 0 || asked > cap;
+    asked = job.server_point_limit ? cap : asked;
+    job.request = std::move(request);
+}
+
+std::shared_ptr<Job> JobManager::submit(api::MeshRequest request, double parse_s, std::string owner) {
+    auto job = std::make_shared<Job>();
+    job->parse_s = parse_s;
+    job->owner = std::move(owner);
+    take_request(*job, std::move(request));
     job->submitted = std::chrono::system_clock::now();
     {
         std::lock_guard<std::mutex> lock(m_);
@@ -122,7 +133,7 @@ std::shared_ptr<Job> JobManager::find(const std::string& id) {
     return it == jobs_.end() ? nullptr : it->second;
 }
 
-bool JobManager::cancel(const std::string& id) {
+bool JobManager::cancel_job(const std::string& id) {
     std::shared_ptr<Job> job = find(id);
     if (!job) return false;
     job->cancel = true;
@@ -171,9 +182,79 @@ void JobManager::forget(const std::shared_ptr<Job>& job) {
     metrics_.set_jobs_kept(jobs_.size());
 }
 
-size_t JobManager::queued() const {
+size_t JobManager::queued() {
     std::lock_guard<std::mutex> lock(m_);
     return queue_.size();
+}
+
+Submission JobManager::submit(const std::string&, api::MeshRequest request, double parse_s, const std::string& owner) {
+    auto job = submit(std::move(request), parse_s, owner);
+    if (!job) return {draining_ ? Submission::Refusal::Draining : Submission::Refusal::QueueFull, ""};
+    return {Submission::Refusal::None, job->id};
+}
+
+JobInfo JobManager::info_of(const Job& j) {
+    std::lock_guard<std::mutex> lock(j.m);
+    JobInfo i;
+    i.id = j.id;
+    i.status = j.status;
+    i.stage = j.stage;
+    i.progress = j.progress;
+    i.submitted = j.submitted;
+    i.started = j.started;
+    i.finished = j.finished;
+    if (j.status == JobStatus::Succeeded && j.result) i.metrics = j.metrics.dump();
+    i.error = j.error;
+    i.expired = j.status == JobStatus::Succeeded && !j.result;
+    i.owner = j.owner;
+    return i;
+}
+
+std::optional<JobInfo> JobManager::info(const std::string& id) {
+    auto job = find(id);
+    if (!job) return std::nullopt;
+    return info_of(*job);
+}
+
+std::optional<JobMesh> JobManager::mesh(const std::string& id) {
+    auto job = find(id);
+    if (!job) return std::nullopt;
+    JobMesh out;
+    out.info = info_of(*job);
+    std::lock_guard<std::mutex> lock(job->m);
+    out.result = job->status == JobStatus::Succeeded ? job->result : nullptr;
+    out.foam = job->foam;
+    return out;
+}
+
+std::optional<JobInfo> JobManager::cancel(const std::string& id) {
+    if (!cancel_job(id)) return std::nullopt;
+    return info(id);
+}
+
+bool JobManager::run_external(std::shared_ptr<Job> job, api::MeshRequest request) {
+    take_request(*job, std::move(request));
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        if (draining_ || stop_) return false;
+        job->submitted = job->submitted.time_since_epoch().count() ? job->submitted : std::chrono::system_clock::now();
+        queue_.push_back(std::move(job));
+        metrics_.set_queue(queue_.size(), busy_);
+    }
+    cv_.notify_one();
+    return true;
+}
+
+size_t JobManager::idle_workers() const {
+    std::lock_guard<std::mutex> lock(m_);
+    const size_t taken = busy_ + queue_.size();
+    const auto workers = static_cast<size_t>(config_.workers);
+    return taken >= workers ? 0 : workers - taken;
+}
+
+void JobManager::wait_idle(std::chrono::milliseconds at_most) {
+    std::unique_lock<std::mutex> lock(m_);
+    idle_cv_.wait_for(lock, at_most, [&] { return stop_ || busy_ + queue_.size() < static_cast<size_t>(config_.workers); });
 }
 
 size_t JobManager::busy() const {
@@ -195,6 +276,7 @@ void JobManager::work() {
             if (queue_.empty()) return;  // stop_ and nothing left
             job = queue_.front();
             queue_.pop_front();
+            running_.insert(job);
             ++busy_;
             metrics_.set_queue(queue_.size(), busy_);
         }
@@ -202,9 +284,11 @@ void JobManager::work() {
         {
             std::lock_guard<std::mutex> lock(m_);
             --busy_;
+            running_.erase(job);
             metrics_.set_queue(queue_.size(), busy_);
         }
         cv_.notify_all();
+        idle_cv_.notify_all();
         housekeeping();
     }
 }
@@ -274,6 +358,24 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
         job->result_bytes = bytes;
         job->finished = std::chrono::system_clock::now();
     }
+    spdlog::info("job {} {} points={} triangles={} time_ms={:.1f}{}", job->id, to_string(status),
+                 result ? result->quality.points : 0, result ? result->quality.triangles : 0, secs * 1000.0,
+                 error ? " problem=" + error->type : std::string());
+    const size_t points = result ? result->quality.points : 0, triangles = result ? result->quality.triangles : 0;
+    if (job->on_finish) {
+        // A shared store's job: the store takes the outcome (and names it: a job handed back
+        // to the queue has not ended); this manager keeps nothing.
+        const std::string outcome = job->on_finish(*job);
+        if (outcome == "succeeded" || outcome == "failed" || outcome == "cancelled")
+            metrics_.job_finished(outcome, secs, points, triangles);
+        {
+            std::lock_guard<std::mutex> lock(job->m);
+            job->result.reset();
+        }
+        job->done_cv.notify_all();
+        return;
+    }
+    metrics_.job_finished(to_string(status), secs, points, triangles);
     {
         // The store knows the finished job before anyone waiting on it wakes (a synchronous
         // request forgets its job at once).
@@ -282,11 +384,6 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
         finished_order_.push_back(job);
     }
     job->done_cv.notify_all();
-    metrics_.job_finished(to_string(status), secs, result ? result->quality.points : 0,
-                          result ? result->quality.triangles : 0);
-    spdlog::info("job {} {} points={} triangles={} time_ms={:.1f}{}", job->id, to_string(status),
-                 result ? result->quality.points : 0, result ? result->quality.triangles : 0, secs * 1000.0,
-                 error ? " problem=" + error->type : std::string());
 }
 
 void JobManager::reserve_memory(size_t bytes, const std::function<bool()>& stop) {
@@ -361,9 +458,11 @@ void JobManager::drain(std::chrono::duration<double> grace) {
         cv_.wait_until(lock, until, [&] { return queue_.empty() && busy_ == 0; });
         stop_ = true;
         for (auto& j : queue_) j->cancel = true;
+        for (auto& j : running_) j->cancel = true;
         for (auto& [id, j] : jobs_) j->cancel = true;
     }
     cv_.notify_all();
+    idle_cv_.notify_all();
     for (auto& t : workers_)
         if (t.joinable()) t.join();
     workers_.clear();  // a second drain (the destructor after SIGTERM) finds nothing to join

@@ -16,6 +16,7 @@
 
 #include "meshd/server/config.hpp"
 #include "meshd/server/service.hpp"
+#include "redis.hpp"
 
 namespace {
 
@@ -79,7 +80,8 @@ int main(int argc, char** argv) {
         spdlog::error("cannot bind {}:{}", config.host, config.port);
         return 1;
     }
-    spdlog::info("meshd listening on {}:{} with {} workers, queue {}", config.host, port, config.workers, config.queue_length);
+    spdlog::info("meshd listening on {}:{} with {} workers, queue {}, job store {}", config.host, port, config.workers,
+                 config.queue_length, config.store == "memory" ? std::string("memory") : meshd::server::redis::parse_url(config.store).describe());
     if (service.probe_port() >= 0) spdlog::info("probes on {}:{} (/healthz, /livez, /readyz, /metrics)", config.host, service.probe_port());
     std::thread watcher([&] {
         while (g_signal == 0 && !(service.running() == false && g_signal != 0)) std::this_thread::sleep_for(std::chrono::milliseconds(50));

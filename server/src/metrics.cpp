@@ -70,6 +70,27 @@ void Metrics::set_memory(size_t reserved, size_t waiting, size_t budget) {
     memory_budget_ = budget;
 }
 
+const std::vector<double> kStoreBounds{0.0001, 0.0005, 0.001, 0.002, 0.005, 0.01, 0.05, 0.1, 0.5, 1};
+
+void Metrics::store_op(const std::string& op, double seconds, bool ok) {
+    std::lock_guard<std::mutex> lock(m_);
+    shared_store_ = true;
+    if (ok) store_seconds_.try_emplace(op, kStoreBounds).first->second.observe(seconds);
+    else ++store_errors_[op];
+}
+
+void Metrics::store_event(const std::string& what) {
+    std::lock_guard<std::mutex> lock(m_);
+    shared_store_ = true;
+    ++store_events_[what];
+}
+
+void Metrics::set_store_up(bool up) {
+    std::lock_guard<std::mutex> lock(m_);
+    shared_store_ = true;
+    store_up_ = up;
+}
+
 std::string Metrics::render() const {
     std::lock_guard<std::mutex> lock(m_);
     std::string o;
@@ -95,6 +116,22 @@ std::string Metrics::render() const {
          "# TYPE meshd_memory_budget_bytes gauge\nmeshd_memory_budget_bytes " + std::to_string(memory_budget_) + "\n";
     o += "# HELP meshd_jobs_waiting_for_memory Jobs started but waiting for their memory.\n"
          "# TYPE meshd_jobs_waiting_for_memory gauge\nmeshd_jobs_waiting_for_memory " + std::to_string(memory_waiting_) + "\n";
+    if (shared_store_) {
+        o += "# HELP meshd_store_up Whether the shared job store answered last time.\n# TYPE meshd_store_up gauge\nmeshd_store_up " +
+             std::string(store_up_ ? "1" : "0") + "\n";
+        o += "# HELP meshd_store_operation_duration_seconds Round trips to the shared job store, by kind.\n"
+             "# TYPE meshd_store_operation_duration_seconds histogram\n";
+        for (const auto& [op, h] : store_seconds_) h.render(o, "meshd_store_operation_duration_seconds", "op=\"" + op + "\"");
+        o += "# HELP meshd_store_errors_total Round trips to the shared job store that failed, by kind.\n"
+             "# TYPE meshd_store_errors_total counter\n";
+        for (const auto& [op, n] : store_errors_) o += "meshd_store_errors_total{op=\"" + op + "\"} " + std::to_string(n) + "\n";
+        o += "# HELP meshd_store_jobs_total Jobs taken from or given back to the shared queue by this replica.\n"
+             "# TYPE meshd_store_jobs_total counter\n";
+        for (const char* e : {"claimed", "reclaimed", "handed_back"}) {
+            auto it = store_events_.find(e);
+            o += std::string("meshd_store_jobs_total{event=\"") + e + "\"} " + std::to_string(it == store_events_.end() ? 0 : it->second) + "\n";
+        }
+    }
     o += "# HELP meshd_points_total Points of all meshes made.\n# TYPE meshd_points_total counter\nmeshd_points_total " + std::to_string(points_) + "\n";
     o += "# HELP meshd_triangles_total Triangles of all meshes made.\n# TYPE meshd_triangles_total counter\nmeshd_triangles_total " + std::to_string(triangles_) + "\n";
     return o;

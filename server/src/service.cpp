@@ -15,6 +15,7 @@
 #include "meshd/api/request.hpp"
 #include "meshd/api/writers.hpp"
 #include "peer.hpp"
+#include "redis_store.hpp"
 
 namespace meshd::server {
 
@@ -177,8 +178,7 @@ bool json_body(const httplib::Request& req, httplib::Response& res) {
     return ok;
 }
 
-json job_json(const Job& j) {
-    std::lock_guard<std::mutex> lock(j.m);
+json job_json(const JobInfo& j) {
     json o;
     o["id"] = j.id;
     o["status"] = to_string(j.status);
@@ -186,17 +186,29 @@ json job_json(const Job& j) {
     o["stage"] = j.stage;
     o["submitted_at"] = rfc3339(j.submitted);
     if (j.status != JobStatus::Queued && j.started.time_since_epoch().count()) o["started_at"] = rfc3339(j.started);
-    if (j.finished_locked()) o["finished_at"] = rfc3339(j.finished);
-    if (j.status == JobStatus::Succeeded && j.result) o["metrics"] = j.metrics;
+    if (is_final(j.status)) o["finished_at"] = rfc3339(j.finished);
+    if (j.status == JobStatus::Succeeded && !j.expired && !j.metrics.empty()) o["metrics"] = json::parse(j.metrics);
     if (j.status == JobStatus::Succeeded && j.expired) o["expired"] = true;
     if (j.error) o["error"] = json::parse(j.error->to_json());
     return o;
+}
+
+void store_unavailable(httplib::Response& res, const StoreUnavailable& e) {
+    spdlog::warn("job store unavailable: {}", e.what());
+    res.set_header("Retry-After", "2");
+    send_problem(res, problem(503, "store-unavailable", "Job store unavailable",
+                              "the job store cannot be reached now; retry later"));
 }
 
 }  // namespace
 
 Service::Service(Config config) : config_(std::move(config)) {
     jobs_ = std::make_unique<JobManager>(config_, metrics_);
+    store_ = jobs_.get();
+    if (config_.store != "memory") {
+        redis_ = std::make_unique<RedisStore>(config_, *jobs_, metrics_);
+        store_ = redis_.get();
+    }
     http_ = std::make_unique<httplib::Server>();
     install();
     if (config_.probe_port >= 0) {
@@ -214,6 +226,11 @@ Service::Service(Config config) : config_(std::move(config)) {
 Service::~Service() {
     stop();
     if (probe_thread_.joinable()) probe_thread_.join();
+    // The store stops taking jobs before the workers go, and outlives them: their last jobs
+    // end through it.
+    if (redis_) redis_->stop_claiming();
+    jobs_.reset();
+    redis_.reset();
 }
 
 int Service::bind() {
@@ -227,6 +244,7 @@ int Service::bind() {
 }
 
 bool Service::listen() {
+    if (redis_) redis_->start();
     if (probe_port_ >= 0) probe_thread_ = std::thread([this] { probe_->listen_after_bind(); });
     return http_->listen_after_bind();
 }
@@ -235,7 +253,10 @@ bool Service::running() const { return http_->is_running(); }
 void Service::drain() {
     if (draining_.exchange(true)) return;
     spdlog::info("draining: readiness off, no new jobs, waiting up to {} s for running jobs", config_.drain_s);
+    // A shared store's jobs not finished within the grace are handed back to its queue.
+    if (redis_) redis_->stop_claiming();
     jobs_->drain(std::chrono::duration<double>(config_.drain_s));
+    if (redis_) redis_->stop();
     spdlog::info("drained; stopping");
     http_->stop();
     if (probe_) probe_->stop();
@@ -270,12 +291,16 @@ void Service::install_probes(httplib::Server& s, bool document) {
             res.set_header("Retry-After", "5");
             return send_problem(res, problem(503, "draining", "Not ready", "the server is draining"));
         }
+        if (!store_->reachable()) {
+            res.set_header("Retry-After", "2");
+            return send_problem(res, problem(503, "store-unavailable", "Not ready", "the job store cannot be reached"));
+        }
         res.set_content(R"({"status":"ready"})", "application/json");
     });
 
     add("get", "/metrics");
     s.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
-        metrics_.set_queue(jobs_->queued(), jobs_->busy());
+        metrics_.set_queue(store_->queued(), jobs_->busy());
         res.set_content(metrics_.render(), "text/plain; version=0.0.4; charset=utf-8");
     });
 }
@@ -328,6 +353,7 @@ void Service::install() {
     struct Parsed {
         api::MeshRequest request;
         double seconds;
+        std::string body;
     };
     auto parse = [this](const httplib::Request& req, httplib::Response& res,
                         const httplib::ContentReader& reader) -> std::optional<Parsed> {
@@ -338,7 +364,8 @@ void Service::install() {
         if (!body) return std::nullopt;
         try {
             api::MeshRequest mr = api::parse_request(*body);
-            return Parsed{std::move(mr), std::chrono::duration<double>(std::chrono::steady_clock::now() - request_start).count()};
+            return Parsed{std::move(mr), std::chrono::duration<double>(std::chrono::steady_clock::now() - request_start).count(),
+                          std::move(*body)};
         } catch (const api::RequestError& e) {
             send_problem(res, e.problem());
             return std::nullopt;
@@ -346,7 +373,7 @@ void Service::install() {
     };
 
     auto refuse_busy = [this](httplib::Response& res) {
-        if (jobs_->draining()) {
+        if (jobs_->draining() || draining_) {
             res.set_header("Retry-After", "5");
             send_problem(res, problem(503, "draining", "Shutting down", "the server is draining and takes no new jobs"));
         } else {
@@ -363,6 +390,7 @@ void Service::install() {
         if (!f) return;
         auto parsed = parse(req, res, reader);
         if (!parsed) return;
+        if (draining_) return refuse_busy(res);
         auto job = jobs_->submit(std::move(parsed->request), parsed->seconds);
         if (!job) return refuse_busy(res);
         // Wait for the job, and cancel it if the client goes away meanwhile.
@@ -374,7 +402,7 @@ void Service::install() {
             client_gone = true;
             lock.unlock();
             spdlog::info("job {}: the client closed the connection; cancelling", job->id);
-            jobs_->cancel(job->id);
+            jobs_->cancel_job(job->id);
             lock.lock();
         }
         const JobStatus status = job->status;
@@ -395,17 +423,23 @@ void Service::install() {
             send_problem(res, problem(503, "cancelled", "Cancelled", "the job was cancelled (the server is shutting down)"));
     });
 
-    // POST /v1/jobs: queue.
+    // POST /v1/jobs: queue, in the job store.
     add("post", "/v1/jobs");
     s.Post("/v1/jobs", [this, parse, refuse_busy](const httplib::Request& req, httplib::Response& res,
                                                    const httplib::ContentReader& reader) {
         auto parsed = parse(req, res, reader);
         if (!parsed) return;
-        auto job = jobs_->submit(std::move(parsed->request), parsed->seconds);
-        if (!job) return refuse_busy(res);
+        if (draining_) return refuse_busy(res);
+        Submission sub;
+        try {
+            sub = store_->submit(parsed->body, std::move(parsed->request), parsed->seconds, "");
+        } catch (const StoreUnavailable& e) {
+            return store_unavailable(res, e);
+        }
+        if (sub.refusal != Submission::Refusal::None) return refuse_busy(res);
         res.status = 202;
-        res.set_header("Location", "/v1/jobs/" + job->id);
-        res.set_content(json{{"id", job->id}, {"status", "queued"}}.dump(), "application/json");
+        res.set_header("Location", "/v1/jobs/" + sub.id);
+        res.set_content(json{{"id", sub.id}, {"status", "queued"}}.dump(), "application/json");
     });
 
     auto unknown_job = [](httplib::Response& res, const std::string& id) {
@@ -414,49 +448,57 @@ void Service::install() {
 
     add("get", "/v1/jobs/{id}");
     s.Get(R"(/v1/jobs/([0-9a-f]+))", [this, unknown_job](const httplib::Request& req, httplib::Response& res) {
-        auto job = jobs_->find(req.matches[1]);
+        std::optional<JobInfo> job;
+        try {
+            job = store_->info(req.matches[1]);
+        } catch (const StoreUnavailable& e) {
+            return store_unavailable(res, e);
+        }
         if (!job) return unknown_job(res, req.matches[1]);
-        const json j = job_json(*job);
-        if (j["status"] == "queued" || j["status"] == "running") res.set_header("Retry-After", "1");
-        res.set_content(j.dump(), "application/json");
+        if (!is_final(job->status)) res.set_header("Retry-After", "1");
+        res.set_content(job_json(*job).dump(), "application/json");
     });
 
     add("get", "/v1/jobs/{id}/mesh");
     s.Get(R"(/v1/jobs/([0-9a-f]+)/mesh)", [this, unknown_job](const httplib::Request& req, httplib::Response& res) {
         const auto f = format_of(req, res);
         if (!f) return;
-        auto job = jobs_->find(req.matches[1]);
+        std::optional<JobMesh> job;
+        try {
+            job = store_->mesh(req.matches[1]);
+        } catch (const StoreUnavailable& e) {
+            return store_unavailable(res, e);
+        }
         if (!job) return unknown_job(res, req.matches[1]);
-        std::unique_lock<std::mutex> lock(job->m);
-        switch (job->status) {
+        switch (job->info.status) {
             case JobStatus::Queued:
             case JobStatus::Running:
                 res.set_header("Retry-After", "1");
-                return send_problem(res, problem(409, "not-finished", "Not finished", "the job is " + std::string(to_string(job->status))));
+                return send_problem(res, problem(409, "not-finished", "Not finished", "the job is " + std::string(to_string(job->info.status))));
             case JobStatus::Cancelled:
                 return send_problem(res, problem(410, "cancelled", "Gone", "the job was cancelled"));
             case JobStatus::Failed:
-                return send_problem(res, *job->error);
+                return send_problem(res, *job->info.error);
             case JobStatus::Succeeded:
                 break;
         }
         if (!job->result) return send_problem(res, problem(410, "expired", "Gone", "the mesh has expired; submit the request again"));
-        auto result = job->result;
-        api::FoamOptions foam = job->foam;
-        lock.unlock();
-        send_mesh(res, std::move(result), *f, std::move(foam),
+        send_mesh(res, std::move(job->result), *f, std::move(job->foam),
                   std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                          std::chrono::duration<double>(config_.job_timeout_s)));
     });
 
     add("delete", "/v1/jobs/{id}");
     s.Delete(R"(/v1/jobs/([0-9a-f]+))", [this, unknown_job](const httplib::Request& req, httplib::Response& res) {
-        if (!jobs_->cancel(req.matches[1])) return unknown_job(res, req.matches[1]);
-        auto job = jobs_->find(req.matches[1]);
+        std::optional<JobInfo> job;
+        try {
+            job = store_->cancel(req.matches[1]);
+        } catch (const StoreUnavailable& e) {
+            return store_unavailable(res, e);
+        }
         if (!job) return unknown_job(res, req.matches[1]);
-        const json j = job_json(*job);
-        res.status = (j["status"] == "running") ? 202 : 200;
-        res.set_content(j.dump(), "application/json");
+        res.status = job->status == JobStatus::Running ? 202 : 200;
+        res.set_content(job_json(*job).dump(), "application/json");
     });
 
     install_probes(s, true);

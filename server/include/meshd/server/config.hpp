@@ -27,6 +27,14 @@ struct Config {
     size_t memory_budget_bytes = size_t{1536} << 20;
     size_t max_finished_jobs = 10000;     ///< --max-finished-jobs, MESHD_MAX_FINISHED_JOBS: records kept, oldest dropped first
     double drain_s = 30;                  ///< --drain-s, MESHD_DRAIN_S: grace on SIGTERM
+    /// --store, MESHD_STORE: where asynchronous jobs live: "memory" (default: this process)
+    /// or redis://[:password@]host[:port][/db] or unix:///path[?db=N] (shared by replicas).
+    std::string store = "memory";
+    /// MESHD_STORE_PASSWORD only (never a flag, never logged): overrides the URL's password.
+    std::string store_password;
+    /// --lease-s, MESHD_LEASE_S: a running job's lease in a shared store; a job whose
+    /// replica stops renewing it for this long is run again by another replica.
+    double lease_s = 10;
     std::string log_level = "info";       ///< --log-level, MESHD_LOG_LEVEL
     bool log_json = false;                ///< --log-json, MESHD_LOG_JSON=1
 };

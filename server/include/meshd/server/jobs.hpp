@@ -10,6 +10,10 @@
 /// with 413. A job's time limit counts the reading and parsing of its request, its run
 /// (validation included) and, for a synchronous request, the writing of the answer; not the
 /// time it waited in the queue.
+///
+/// The manager is also the in-memory job store (store.hpp). With a shared store, the store
+/// hands the jobs it claims to run() as external jobs: the manager runs them on the same
+/// workers and gives them back through their on_finish hook, keeping no record of them.
 
 #include <atomic>
 #include <chrono>
@@ -20,6 +24,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -31,17 +36,14 @@
 #include "meshd/core/mesher.hpp"
 #include "meshd/server/config.hpp"
 #include "meshd/server/metrics.hpp"
+#include "meshd/server/store.hpp"
 
 namespace meshd::server {
-
-enum class JobStatus { Queued, Running, Succeeded, Failed, Cancelled };
 
 /// Thrown through the core by a job's observer to end the job with this problem.
 struct JobRefused {
     api::Problem problem;
 };
-const char* to_string(JobStatus s);
-
 struct Job {
     std::string id;
     /// With the server's point limit applied; released when the job has run.
@@ -52,7 +54,13 @@ struct Job {
     double parse_s = 0.0;
     /// How the mesh is written as format=foam (kept after the request is released).
     api::FoamOptions foam;
+    /// The API key's id that made it (empty on an open server).
+    std::string owner;
     std::chrono::system_clock::time_point submitted, started, finished;
+    /// For a job of a shared store (run_external): called by the worker once the job has
+    /// ended, instead of keeping it in the manager's records. Returns the outcome to count
+    /// in the metrics ("succeeded", "failed", "cancelled"; anything else is not counted).
+    std::function<std::string(Job&)> on_finish;
 
     // Written by the worker, read by HTTP threads: under `m`.
     mutable std::mutex m;
@@ -76,23 +84,41 @@ struct Job {
     }
 };
 
-class JobManager {
+class JobManager : public JobStore {
 public:
     JobManager(const Config& config, Metrics& metrics);
-    ~JobManager();
+    ~JobManager() override;
 
     /// Queues the request; nullptr when the queue is full or the manager is draining.
     /// `parse_s`: the time its reading and parsing took, counted in its limit.
-    std::shared_ptr<Job> submit(api::MeshRequest request, double parse_s = 0.0);
+    std::shared_ptr<Job> submit(api::MeshRequest request, double parse_s = 0.0, std::string owner = {});
     /// The job, or nullptr (unknown or forgotten).
     std::shared_ptr<Job> find(const std::string& id);
     /// Asks the job to stop; false when unknown.
-    bool cancel(const std::string& id);
+    bool cancel_job(const std::string& id);
+
+    // JobStore: the jobs in this process's memory.
+    Submission submit(const std::string& body, api::MeshRequest request, double parse_s,
+                      const std::string& owner) override;
+    std::optional<JobInfo> info(const std::string& id) override;
+    std::optional<JobMesh> mesh(const std::string& id) override;
+    std::optional<JobInfo> cancel(const std::string& id) override;
+    bool reachable() override { return true; }
+    size_t queued() override;
+    std::string describe() const override { return "memory"; }
+
+    /// Runs a job of a shared store on this manager's workers: `job` has its id and
+    /// on_finish set; the server's point limit is applied to `request` as in submit(). False
+    /// when draining (the caller keeps the job).
+    bool run_external(std::shared_ptr<Job> job, api::MeshRequest request);
+    /// Workers neither busy nor promised to a queued job.
+    size_t idle_workers() const;
+    /// Waits until a worker is idle (or the manager stops), at most `at_most`.
+    void wait_idle(std::chrono::milliseconds at_most);
     /// Drops a finished job's record and its result from the store (a synchronous request's
     /// job, once its answer is taken: nobody asks for it again).
     void forget(const std::shared_ptr<Job>& job);
 
-    size_t queued() const;
     size_t busy() const;
     bool full() const;
     bool draining() const { return draining_; }
@@ -100,6 +126,11 @@ public:
     /// Stops taking jobs; waits up to `grace` for queued and running jobs to end, then
     /// cancels what is left and joins the workers.
     void drain(std::chrono::duration<double> grace);
+
+    /// 128 bits from the system's entropy source, as 32 hex digits: ids cannot be guessed.
+    static std::string new_id();
+    /// The snapshot of a job the routes answer with.
+    static JobInfo info_of(const Job& job);
 
     /// Waits until `bytes` fit in the memory budget beside the running jobs and reserves them;
     /// `stop` is asked while waiting (Cancelled when it says so). Throws JobRefused (413) when
@@ -113,13 +144,16 @@ private:
     void housekeeping();
     /// With m_ held: the job's result leaves the store and its memory budget.
     void release_result_locked(Job& job);
-    static std::string new_id();
+    /// Gives the job its request, with the server's point limit unless it asks for fewer.
+    void take_request(Job& job, api::MeshRequest request) const;
 
     const Config& config_;
     Metrics& metrics_;
     mutable std::mutex m_;
     std::condition_variable cv_;
+    std::condition_variable idle_cv_;
     std::deque<std::shared_ptr<Job>> queue_;
+    std::set<std::shared_ptr<Job>> running_;
     std::map<std::string, std::shared_ptr<Job>> jobs_;
     std::deque<std::shared_ptr<Job>> finished_order_;  // for eviction, oldest first
     size_t result_bytes_ = 0;

@@ -33,6 +33,12 @@ public:
     /// Memory reserved by running jobs (their forecast peaks), jobs waiting for it, and the
     /// budget.
     void set_memory(size_t reserved, size_t waiting, size_t budget);
+    /// One round trip to a shared job store: its kind, time, and whether the store answered.
+    void store_op(const std::string& op, double seconds, bool ok);
+    /// Jobs this replica took from a shared store's queue: "claimed" (new), "reclaimed"
+    /// (a lapsed lease or a job handed back), "handed_back" (by this replica's drain).
+    void store_event(const std::string& what);
+    void set_store_up(bool up);
 
     std::string render() const;
 
@@ -45,6 +51,9 @@ private:
     std::uint64_t points_ = 0, triangles_ = 0;
     size_t queue_depth_ = 0, busy_ = 0, jobs_kept_ = 0;
     size_t memory_reserved_ = 0, memory_waiting_ = 0, memory_budget_ = 0;
+    bool shared_store_ = false, store_up_ = true;
+    std::map<std::string, Histogram> store_seconds_;
+    std::map<std::string, std::uint64_t> store_errors_, store_events_;
 };
 
 }  // namespace meshd::server

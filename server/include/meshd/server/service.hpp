@@ -1,7 +1,7 @@
 #pragma once
 /// The HTTP service of docs/api.md over cpp-httplib: routes, problems, streaming responses,
 /// metrics, logging, readiness and draining. Holds no geometry: requests go to api/, work to
-/// the JobManager.
+/// the JobManager, asynchronous jobs to the job store (store.hpp).
 
 #include <atomic>
 #include <memory>
@@ -18,6 +18,8 @@ class Server;
 }
 
 namespace meshd::server {
+
+class RedisStore;
 
 struct Route {
     std::string method;
@@ -52,7 +54,11 @@ private:
 
     Config config_;
     Metrics metrics_;
+    /// Jobs run here (sync requests, and the async ones of the store); the store of async
+    /// jobs is either jobs_ itself or redis_ (--store).
     std::unique_ptr<JobManager> jobs_;
+    std::unique_ptr<RedisStore> redis_;
+    JobStore* store_ = nullptr;
     std::unique_ptr<httplib::Server> http_;
     std::unique_ptr<httplib::Server> probe_;
     std::thread probe_thread_;

@@ -1,0 +1,689 @@
+#include "redis_store.hpp"
+
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+
+#include "meshd/api/stored_result.hpp"
+
+namespace meshd::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using json = nlohmann::json;
+
+constexpr const char* kGroup = "workers";
+/// A job whose replica stopped this many times is failed instead of run again: it is
+/// probably what stops them.
+constexpr int kMaxRuns = 5;
+/// Results are stored in chunks of this size (a Redis string holds at most 512 MB, and one
+/// chunk per command keeps every reply small).
+constexpr size_t kChunk = size_t{8} << 20;
+/// How long a finished job's outcome is retried while the store is away; past it the job
+/// is left to its lease (another replica runs it again).
+constexpr std::chrono::seconds kOutcomeRetry{120};
+
+// KEYS: job, queue, queued. ARGV: id, bound, now, body, foam, owner.
+constexpr const char* kSubmit = R"lua(
+if redis.call('EXISTS', KEYS[1]) == 1 then return -1 end
+if tonumber(redis.call('GET', KEYS[3]) or '0') >= tonumber(ARGV[2]) then return 0 end
+local entry = redis.call('XADD', KEYS[2], '*', 'id', ARGV[1])
+redis.call('HSET', KEYS[1], 'status', 'queued', 'stage', 'queued', 'progress', '0', 'submitted', ARGV[3],
+  'request', ARGV[4], 'foam', ARGV[5], 'owner', ARGV[6], 'entry', entry, 'runs', '0')
+redis.call('INCR', KEYS[3])
+return 1
+)lua";
+
+// KEYS: job, queued. ARGV: consumer, now, max runs, entry.
+// -> {'run', request, runs} | {'poison', runs} | {'final'} | {'gone'} | {'stale'}
+constexpr const char* kStart = R"lua(
+local f = redis.call('HMGET', KEYS[1], 'status', 'runs', 'request', 'entry')
+if not f[1] then return {'gone'} end
+if f[1] ~= 'queued' and f[1] ~= 'running' then return {'final'} end
+if f[4] ~= ARGV[4] then return {'stale'} end
+if f[1] == 'queued' then redis.call('DECR', KEYS[2]) end
+local runs = tonumber(f[2]) + 1
+redis.call('HSET', KEYS[1], 'status', 'running', 'stage', 'starting', 'progress', '0', 'runner', ARGV[1],
+  'runs', tostring(runs), 'started', ARGV[2])
+if runs > tonumber(ARGV[3]) then return {'poison', tostring(runs - 1)} end
+return {'run', f[3], tostring(runs)}
+)lua";
+
+// KEYS: job, queue. ARGV: consumer, entry, stage, progress. -> ok | cancel | moved | final
+constexpr const char* kHeartbeat = R"lua(
+local f = redis.call('HMGET', KEYS[1], 'status', 'runner', 'cancel')
+if f[1] ~= 'running' then return 'final' end
+if f[2] ~= ARGV[1] then return 'moved' end
+redis.call('HSET', KEYS[1], 'stage', ARGV[3], 'progress', ARGV[4])
+local p = redis.call('XPENDING', KEYS[2], 'workers', ARGV[2], ARGV[2], 1)
+if p[1] and p[1][2] == ARGV[1] then redis.call('XCLAIM', KEYS[2], 'workers', ARGV[1], 0, ARGV[2], 'JUSTID') end
+if f[3] == '1' then return 'cancel' end
+return 'ok'
+)lua";
+
+// KEYS: job, queue, queued, results, result_bytes, result_sizes, result.
+// ARGV: id, status, now, ttl ms, metrics, error, bytes, budget, entry, key prefix.
+// -> 1 written | 0 the job had already ended (or is gone) | -1 no complete result stored
+constexpr const char* kFinish = R"lua(
+local s = redis.call('HGET', KEYS[1], 'status')
+if s ~= 'queued' and s ~= 'running' then
+  redis.call('XACK', KEYS[2], 'workers', ARGV[9])
+  redis.call('XDEL', KEYS[2], ARGV[9])
+  return 0
+end
+if ARGV[2] == 'succeeded' and redis.call('HEXISTS', KEYS[7], 'n') == 0 then return -1 end
+redis.call('XACK', KEYS[2], 'workers', ARGV[9])
+redis.call('XDEL', KEYS[2], ARGV[9])
+if s == 'queued' then redis.call('DECR', KEYS[3]) end
+local ttl = tonumber(ARGV[4])
+redis.call('HSET', KEYS[1], 'status', ARGV[2], 'stage', ARGV[2], 'finished', ARGV[3])
+redis.call('HDEL', KEYS[1], 'request')
+if ARGV[6] ~= '' then redis.call('HSET', KEYS[1], 'error', ARGV[6]) end
+redis.call('PEXPIRE', KEYS[1], ttl)
+if ARGV[2] ~= 'succeeded' then return 1 end
+redis.call('HSET', KEYS[1], 'progress', '1', 'metrics', ARGV[5])
+local now = tonumber(ARGV[3])
+local function drop(id)
+  local b = tonumber(redis.call('HGET', KEYS[6], id) or '0')
+  redis.call('HDEL', KEYS[6], id)
+  redis.call('ZREM', KEYS[4], id)
+  redis.call('DEL', ARGV[10] .. 'result:' .. id)
+  return redis.call('DECRBY', KEYS[5], b)
+end
+for _, id in ipairs(redis.call('ZRANGEBYSCORE', KEYS[4], '-inf', now - ttl)) do drop(id) end
+redis.call('ZADD', KEYS[4], now, ARGV[1])
+redis.call('HSET', KEYS[6], ARGV[1], ARGV[7])
+redis.call('PEXPIRE', KEYS[7], ttl)
+local total = redis.call('INCRBY', KEYS[5], tonumber(ARGV[7]))
+while total > tonumber(ARGV[8]) do
+  local oldest = redis.call('ZRANGE', KEYS[4], 0, 0)
+  if #oldest == 0 then break end
+  total = drop(oldest[1])
+  local job = ARGV[10] .. 'job:' .. oldest[1]
+  if redis.call('EXISTS', job) == 1 then redis.call('HSET', job, 'expired', '1') end
+end
+return 1
+)lua";
+
+// KEYS: job, queued, queue. ARGV: now, ttl ms. -> 0 unknown | 1
+constexpr const char* kCancel = R"lua(
+local f = redis.call('HMGET', KEYS[1], 'status', 'entry')
+if not f[1] then return 0 end
+if f[1] == 'queued' then
+  redis.call('DECR', KEYS[2])
+  redis.call('HSET', KEYS[1], 'status', 'cancelled', 'stage', 'cancelled', 'finished', ARGV[1], 'cancel', '1')
+  redis.call('HDEL', KEYS[1], 'request')
+  redis.call('XACK', KEYS[3], 'workers', f[2])
+  redis.call('XDEL', KEYS[3], f[2])
+  redis.call('PEXPIRE', KEYS[1], ARGV[2])
+elseif f[1] == 'running' then
+  redis.call('HSET', KEYS[1], 'cancel', '1')
+end
+return 1
+)lua";
+
+// KEYS: job, queued, queue. ARGV: consumer, entry, idle ms. -> 1 handed back | 0 not ours
+constexpr const char* kHandBack = R"lua(
+local f = redis.call('HMGET', KEYS[1], 'status', 'runner')
+if f[1] ~= 'running' or f[2] ~= ARGV[1] then return 0 end
+redis.call('HSET', KEYS[1], 'status', 'queued', 'stage', 'queued', 'progress', '0')
+redis.call('HINCRBY', KEYS[1], 'runs', -1)
+redis.call('INCR', KEYS[2])
+local p = redis.call('XPENDING', KEYS[3], 'workers', ARGV[2], ARGV[2], 1)
+if p[1] and p[1][2] == ARGV[1] then
+  redis.call('XCLAIM', KEYS[3], 'workers', ARGV[1], 0, ARGV[2], 'IDLE', ARGV[3], 'JUSTID')
+end
+return 1
+)lua";
+
+long long now_ms() {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+std::chrono::system_clock::time_point from_ms(const std::string& s) {
+    if (s.empty()) return {};
+    return std::chrono::system_clock::time_point(std::chrono::milliseconds(std::atoll(s.c_str())));
+}
+
+std::string foam_json(const api::FoamOptions& f) {
+    json o = json::object();
+    o["patch_types"] = f.patch_types;
+    if (f.slab_thickness) o["slab_thickness"] = *f.slab_thickness;
+    return o.dump();
+}
+
+api::FoamOptions foam_of(const std::string& s) {
+    api::FoamOptions f;
+    if (s.empty()) return f;
+    const json o = json::parse(s);
+    f.patch_types = o.at("patch_types").get<std::map<std::string, std::string>>();
+    if (o.contains("slab_thickness")) f.slab_thickness = o["slab_thickness"].get<double>();
+    return f;
+}
+
+api::Problem problem_of_json(const std::string& s) {
+    const json o = json::parse(s);
+    api::Problem p;
+    p.status = o.value("status", 500);
+    p.type = o.value("type", "");
+    p.title = o.value("title", "");
+    p.detail = o.value("detail", "");
+    p.pointer = o.value("pointer", "");
+    return p;
+}
+
+std::string str(const redis::Reply& r) { return r.kind == redis::Reply::Kind::String || r.kind == redis::Reply::Kind::Status ? r.str : ""; }
+
+std::string hostname() {
+    char buf[256] = {0};
+    if (gethostname(buf, sizeof buf - 1) != 0) return "meshd";
+    return buf;
+}
+
+}  // namespace
+
+class RedisStore::Pool {
+public:
+    Pool(redis::Endpoint e, std::chrono::milliseconds timeout) : endpoint_(std::move(e)), timeout_(timeout) {}
+    std::unique_ptr<redis::Connection> take() {
+        {
+            std::lock_guard<std::mutex> lock(m_);
+            if (!free_.empty()) {
+                auto c = std::move(free_.back());
+                free_.pop_back();
+                return c;
+            }
+        }
+        return std::make_unique<redis::Connection>(endpoint_, timeout_);
+    }
+    void give(std::unique_ptr<redis::Connection> c) {
+        std::lock_guard<std::mutex> lock(m_);
+        if (free_.size() < 32) free_.push_back(std::move(c));
+    }
+
+private:
+    redis::Endpoint endpoint_;
+    std::chrono::milliseconds timeout_;
+    std::mutex m_;
+    std::vector<std::unique_ptr<redis::Connection>> free_;
+};
+
+RedisStore::RedisStore(const Config& config, JobManager& runner, Metrics& metrics)
+    : config_(config), runner_(runner), metrics_(metrics), endpoint_(redis::parse_url(config.store)) {
+    if (!config.store_password.empty()) endpoint_.password = config.store_password;
+    // Unique per process: a restarted replica is a new consumer, and the jobs its previous
+    // life held are taken over like any lapsed lease.
+    consumer_ = hostname() + "-" + std::to_string(getpid()) + "-" + JobManager::new_id().substr(0, 8);
+    pool_ = std::make_unique<Pool>(endpoint_, std::chrono::milliseconds(2000));
+}
+
+RedisStore::~RedisStore() {
+    stop_claiming();
+    stop();
+}
+
+std::string RedisStore::key(const std::string& kind, const std::string& id) const {
+    return id.empty() ? "{meshd}:" + kind : "{meshd}:" + kind + ":" + id;
+}
+
+redis::Reply RedisStore::eval(redis::Connection& c, const char* script, const std::vector<std::string>& keys,
+                              const std::vector<std::string>& args) {
+    std::vector<std::string> argv{"EVAL", script, std::to_string(keys.size())};
+    argv.insert(argv.end(), keys.begin(), keys.end());
+    argv.insert(argv.end(), args.begin(), args.end());
+    redis::Reply r = c.command(argv);
+    // A script error is a bug or a store that is not Redis 7: no retry helps.
+    if (r.is_error()) throw std::runtime_error("store script failed: " + r.str);
+    return r;
+}
+
+template <class F>
+auto RedisStore::with_store(const char* op, F&& f) {
+    auto c = pool_->take();
+    const auto t0 = Clock::now();
+    try {
+        auto out = f(*c);
+        metrics_.store_op(op, std::chrono::duration<double>(Clock::now() - t0).count(), true);
+        pool_->give(std::move(c));
+        return out;
+    } catch (const redis::Unavailable& e) {
+        metrics_.store_op(op, std::chrono::duration<double>(Clock::now() - t0).count(), false);
+        throw StoreUnavailable(e.what());
+    }
+}
+
+void RedisStore::ensure_group(redis::Connection& c) {
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        if (group_ready_) return;
+    }
+    const redis::Reply r = c.command({"XGROUP", "CREATE", key("queue"), kGroup, "0", "MKSTREAM"});
+    if (r.is_error() && r.str.rfind("BUSYGROUP", 0) != 0) throw std::runtime_error("store: cannot create the consumer group: " + r.str);
+    std::lock_guard<std::mutex> lock(m_);
+    group_ready_ = true;
+}
+
+void RedisStore::start() {
+    claimer_ = std::thread([this] { claim_loop(); });
+    heartbeat_ = std::thread([this] { heartbeat_loop(); });
+    spdlog::info("job store: {} as consumer {} (lease {} s)", endpoint_.describe(), consumer_, config_.lease_s);
+}
+
+void RedisStore::stop_claiming() {
+    claiming_ = false;
+    cv_.notify_all();
+    if (claimer_.joinable()) claimer_.join();
+}
+
+void RedisStore::stop() {
+    stopping_ = true;
+    cv_.notify_all();
+    if (claimer_.joinable()) claimer_.join();
+    if (heartbeat_.joinable()) heartbeat_.join();
+}
+
+void RedisStore::pause(std::chrono::milliseconds d) {
+    std::unique_lock<std::mutex> lock(m_);
+    cv_.wait_for(lock, d, [&] { return stopping_.load() || !claiming_.load(); });
+}
+
+// ---- submitting and reading (HTTP threads) ----
+
+Submission RedisStore::submit(const std::string& body, api::MeshRequest request, double, const std::string& owner) {
+    if (!claiming_) return {Submission::Refusal::Draining, ""};
+    const std::string foam = foam_json(request.foam);
+    return with_store("submit", [&](redis::Connection& c) {
+        for (;;) {
+            const std::string id = JobManager::new_id();
+            const redis::Reply r =
+                eval(c, kSubmit, {key("job", id), key("queue"), key("queued")},
+                     {id, std::to_string(config_.queue_length), std::to_string(now_ms()), body, foam, owner});
+            if (r.integer == -1) continue;  // an id already taken (2^-128): draw again
+            if (r.integer == 0) return Submission{Submission::Refusal::QueueFull, ""};
+            return Submission{Submission::Refusal::None, id};
+        }
+    });
+}
+
+namespace {
+
+const std::vector<std::string> kInfoFields{"status", "stage", "progress", "submitted", "started", "finished",
+                                           "metrics", "error", "expired", "owner", "foam"};
+
+std::optional<JobInfo> info_from(const std::string& id, const redis::Reply& r, std::string* foam = nullptr) {
+    if (r.elements.size() != kInfoFields.size() || r.elements[0].is_nil()) return std::nullopt;
+    auto field = [&](size_t i) { return str(r.elements[i]); };
+    JobInfo j;
+    j.id = id;
+    const auto status = parse_status(field(0));
+    if (!status) return std::nullopt;
+    j.status = *status;
+    j.stage = field(1);
+    j.progress = field(2).empty() ? 0.0 : std::atof(field(2).c_str());
+    j.submitted = from_ms(field(3));
+    j.started = from_ms(field(4));
+    j.finished = from_ms(field(5));
+    j.metrics = field(6);
+    if (!field(7).empty()) j.error = problem_of_json(field(7));
+    j.expired = field(8) == "1";
+    j.owner = field(9);
+    if (foam) *foam = field(10);
+    return j;
+}
+
+}  // namespace
+
+std::optional<JobInfo> RedisStore::info(const std::string& id) {
+    return with_store("status", [&](redis::Connection& c) {
+        std::vector<std::string> cmd{"HMGET", key("job", id)};
+        cmd.insert(cmd.end(), kInfoFields.begin(), kInfoFields.end());
+        return info_from(id, c.command(cmd));
+    });
+}
+
+std::optional<JobMesh> RedisStore::mesh(const std::string& id) {
+    return with_store("mesh", [&](redis::Connection& c) -> std::optional<JobMesh> {
+        std::vector<std::string> cmd{"HMGET", key("job", id)};
+        cmd.insert(cmd.end(), kInfoFields.begin(), kInfoFields.end());
+        std::string foam;
+        auto i = info_from(id, c.command(cmd), &foam);
+        if (!i) return std::nullopt;
+        JobMesh out;
+        out.info = *i;
+        out.foam = foam_of(foam);
+        if (i->status != JobStatus::Succeeded || i->expired) return out;
+        const std::string rk = key("result", id);
+        const redis::Reply n = c.command({"HGET", rk, "n"});
+        if (n.is_nil()) {
+            out.info.expired = true;  // evicted between the two reads
+            return out;
+        }
+        std::string bytes;
+        const long chunks = std::atol(n.str.c_str());
+        for (long k = 0; k < chunks; ++k) {
+            const redis::Reply part = c.command({"HGET", rk, std::to_string(k)});
+            if (part.is_nil()) {
+                out.info.expired = true;
+                return out;
+            }
+            bytes += part.str;
+        }
+        out.result = std::make_shared<const core::MeshResult>(api::decode_result(bytes));
+        return out;
+    });
+}
+
+std::optional<JobInfo> RedisStore::cancel(const std::string& id) {
+    const redis::Reply r = with_store("cancel", [&](redis::Connection& c) {
+        return eval(c, kCancel, {key("job", id), key("queued"), key("queue")},
+                    {std::to_string(now_ms()), std::to_string(std::max<long long>(1, std::llround(config_.job_ttl_s * 1000)))});
+    });
+    if (r.integer == 0) return std::nullopt;
+    return info(id);
+}
+
+bool RedisStore::reachable() {
+    auto c = pool_->take();
+    const bool ok = c->ping();
+    metrics_.set_store_up(ok);
+    if (ok) pool_->give(std::move(c));
+    return ok;
+}
+
+size_t RedisStore::queued() {
+    try {
+        return with_store("queued", [&](redis::Connection& c) {
+            const redis::Reply r = c.command({"GET", key("queued")});
+            return r.is_nil() ? size_t{0} : static_cast<size_t>(std::max(0LL, std::atoll(r.str.c_str())));
+        });
+    } catch (const StoreUnavailable&) {
+        return 0;
+    }
+}
+
+// ---- claiming (the claimer thread) ----
+
+void RedisStore::claim_loop() {
+    redis::Connection c(endpoint_, std::chrono::milliseconds(std::max<long long>(2000, std::llround(config_.lease_s * 1000))));
+    auto backoff = std::chrono::milliseconds(100);
+    while (claiming_ && !stopping_) {
+        // Claim only for a worker that is free now: what waits stays in the shared queue,
+        // where any replica can take it.
+        runner_.wait_idle(std::chrono::milliseconds(200));
+        if (!claiming_ || stopping_ || runner_.idle_workers() == 0) continue;
+        try {
+            ensure_group(c);
+            claim_one(c);
+            backoff = std::chrono::milliseconds(100);
+            metrics_.set_store_up(true);
+        } catch (const redis::Unavailable& e) {
+            metrics_.store_op("claim", 0.0, false);
+            metrics_.set_store_up(false);
+            spdlog::warn("job store: {}; retrying in {} ms", e.what(), backoff.count());
+            {
+                std::lock_guard<std::mutex> lock(m_);
+                group_ready_ = false;  // a Redis that restarted empty has no group
+            }
+            pause(backoff);
+            backoff = std::min(backoff * 2, std::chrono::milliseconds(2000));
+        } catch (const std::exception& e) {
+            spdlog::error("job store: {}", e.what());
+            {
+                std::lock_guard<std::mutex> lock(m_);
+                group_ready_ = false;
+            }
+            pause(std::chrono::milliseconds(1000));
+        }
+    }
+}
+
+bool RedisStore::claim_one(redis::Connection& c) {
+    const auto lease_ms = std::to_string(std::max<long long>(1, std::llround(config_.lease_s * 1000)));
+    // First an entry whose replica stopped renewing its lease (or handed it back).
+    // The scan goes on from where the last one ended (each looks at a few entries), so
+    // that every pending entry is looked at in turn.
+    const redis::Reply ac =
+        c.command({"XAUTOCLAIM", key("queue"), kGroup, consumer_, lease_ms, autoclaim_cursor_, "COUNT", "1"});
+    if (ac.is_error()) throw std::runtime_error("XAUTOCLAIM: " + ac.str);
+    if (!ac.elements.empty()) autoclaim_cursor_ = ac.elements[0].str.empty() ? "0-0" : ac.elements[0].str;
+    if (ac.elements.size() >= 2) {
+        for (const redis::Reply& e : ac.elements[1].elements) {
+            if (e.elements.size() < 2 || e.elements[1].elements.size() < 2) continue;
+            start_entry(c, e.elements[0].str, e.elements[1].elements[1].str, true);
+            return true;
+        }
+    }
+    // Then a new one, waiting for it a little.
+    const redis::Reply r =
+        c.command({"XREADGROUP", "GROUP", kGroup, consumer_, "COUNT", "1", "BLOCK", "500", "STREAMS", key("queue"), ">"});
+    if (r.is_error()) throw std::runtime_error("XREADGROUP: " + r.str);
+    if (r.is_nil() || r.elements.empty()) return false;
+    for (const redis::Reply& stream : r.elements) {
+        if (stream.elements.size() < 2) continue;
+        for (const redis::Reply& e : stream.elements[1].elements) {
+            if (e.elements.size() < 2 || e.elements[1].elements.size() < 2) continue;
+            start_entry(c, e.elements[0].str, e.elements[1].elements[1].str, false);
+            return true;
+        }
+    }
+    return false;
+}
+
+void RedisStore::start_entry(redis::Connection& c, const std::string& entry, const std::string& id, bool reclaimed) {
+    const redis::Reply r = eval(c, kStart, {key("job", id), key("queued")},
+                                {consumer_, std::to_string(now_ms()), std::to_string(kMaxRuns), entry});
+    const std::string what = r.elements.empty() ? "" : r.elements[0].str;
+    if (what != "run" && what != "poison") {
+        // Ended (cancelled while queued), forgotten, or an entry that is not the job's own.
+        c.pipeline({{"XACK", key("queue"), kGroup, entry}, {"XDEL", key("queue"), entry}});
+        return;
+    }
+    metrics_.store_event(reclaimed ? "reclaimed" : "claimed");
+    if (reclaimed) spdlog::info("job {} taken over (its lease lapsed or it was handed back)", id);
+    auto job = std::make_shared<Job>();
+    job->id = id;
+    job->stage = "starting";
+    job->on_finish = [this](Job& j) { return finish(j); };
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        inflight_[id] = InFlight{job, entry};
+    }
+    std::optional<api::Problem> refused;
+    api::MeshRequest request;
+    if (what == "poison") {
+        refused = api::Problem{500, "/v1/problems/lost-job", "Job lost",
+                               "the job was started " + r.elements[1].str + " times and its replica stopped each time", ""};
+    } else {
+        const auto t0 = Clock::now();
+        try {
+            request = api::parse_request(r.elements[1].str);
+        } catch (const api::RequestError& e) {
+            refused = e.problem();  // a replica of another version: its parser disagrees
+        }
+        job->parse_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+    if (refused) {
+        {
+            std::lock_guard<std::mutex> lock(job->m);
+            job->status = JobStatus::Failed;
+            job->error = refused;
+        }
+        finish(*job);
+        return;
+    }
+    if (!runner_.run_external(job, std::move(request))) {
+        // Draining since the claim: give it back at once.
+        hand_back(c, id, entry);
+        std::lock_guard<std::mutex> lock(m_);
+        inflight_.erase(id);
+    }
+}
+
+void RedisStore::hand_back(redis::Connection& c, const std::string& id, const std::string& entry) {
+    // Idle as if its lease had lapsed a day ago: the next XAUTOCLAIM anywhere takes it.
+    eval(c, kHandBack, {key("job", id), key("queued"), key("queue")}, {consumer_, entry, "86400000"});
+    metrics_.store_event("handed_back");
+    spdlog::info("job {} handed back to the queue", id);
+}
+
+// ---- the heartbeat: leases, progress, cancellation ----
+
+void RedisStore::heartbeat_loop() {
+    redis::Connection c(endpoint_, std::chrono::milliseconds(2000));
+    // Several beats per lease, and at least three a second for cancellation.
+    const auto period = std::chrono::milliseconds(std::clamp<long long>(std::llround(config_.lease_s * 1000 / 4), 20, 300));
+    while (!stopping_) {
+        std::vector<std::pair<std::string, InFlight>> jobs;
+        {
+            std::lock_guard<std::mutex> lock(m_);
+            jobs.assign(inflight_.begin(), inflight_.end());
+        }
+        if (!jobs.empty()) {
+            std::vector<std::vector<std::string>> cmds;
+            for (const auto& [id, f] : jobs) {
+                std::string stage, progress;
+                {
+                    std::lock_guard<std::mutex> lock(f.job->m);
+                    stage = f.job->stage;
+                    progress = std::to_string(f.job->progress);
+                }
+                cmds.push_back({"EVAL", kHeartbeat, "2", key("job", id), key("queue"), consumer_, f.entry, stage, progress});
+            }
+            try {
+                const auto t0 = Clock::now();
+                const std::vector<redis::Reply> replies = c.pipeline(cmds);
+                metrics_.store_op("heartbeat", std::chrono::duration<double>(Clock::now() - t0).count(), true);
+                std::lock_guard<std::mutex> lock(m_);
+                for (size_t i = 0; i < jobs.size(); ++i) {
+                    const std::string& what = replies[i].str;
+                    auto it = inflight_.find(jobs[i].first);
+                    if (it == inflight_.end() || what == "ok" || replies[i].is_error()) continue;
+                    if (what == "cancel") it->second.user_cancelled = true;
+                    else it->second.moved = true;  // taken over, or ended elsewhere
+                    it->second.job->cancel = true;
+                }
+            } catch (const redis::Unavailable& e) {
+                metrics_.store_op("heartbeat", 0.0, false);
+                spdlog::warn("job store heartbeat: {}", e.what());
+            }
+        }
+        std::unique_lock<std::mutex> lock(m_);
+        cv_.wait_for(lock, period, [&] { return stopping_.load(); });
+    }
+}
+
+// ---- the end of a claimed job (a worker thread) ----
+
+std::string RedisStore::finish(Job& job) {
+    InFlight f;
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        auto it = inflight_.find(job.id);
+        if (it == inflight_.end()) return "lost";
+        f = it->second;
+    }
+    JobStatus status;
+    std::shared_ptr<const core::MeshResult> result;
+    std::optional<api::Problem> error;
+    {
+        std::lock_guard<std::mutex> lock(job.m);
+        status = job.status;
+        result = job.result;
+        error = job.error;
+    }
+    std::string outcome = to_string(status);
+    auto forget = [&] {
+        std::lock_guard<std::mutex> lock(m_);
+        inflight_.erase(job.id);
+    };
+    if (f.moved) {
+        forget();
+        return "moved";
+    }
+    std::string bytes, metrics, problem;
+    if (status == JobStatus::Cancelled && !f.user_cancelled) {
+        // Stopped by this replica's drain: another replica runs it.
+        try {
+            with_store("hand back", [&](redis::Connection& c) {
+                hand_back(c, job.id, f.entry);
+                return 0;
+            });
+        } catch (const StoreUnavailable& e) {
+            spdlog::warn("job {}: could not hand it back ({}); its lease will lapse", job.id, e.what());
+        }
+        forget();
+        return "handed back";
+    }
+    if (result) {
+        bytes = api::encode_result(*result);
+        metrics = api::metrics_json(*result);
+        if (bytes.size() > config_.result_memory_bytes) {
+            status = JobStatus::Failed;
+            outcome = "failed";
+            error = api::Problem{507, "/v1/problems/result-too-large", "Result too large for the store",
+                                 "the mesh takes " + std::to_string(bytes.size() >> 20) + " MiB stored, more than the store's result budget of " +
+                                     std::to_string(config_.result_memory_bytes >> 20) + " MiB (--result-memory-mb): ask for fewer points",
+                                 "/density"};
+            bytes.clear();
+        }
+    }
+    if (error) problem = error->to_json();
+    const auto until = Clock::now() + kOutcomeRetry;
+    auto backoff = std::chrono::milliseconds(100);
+    for (;;) {
+        try {
+            with_store("finish", [&](redis::Connection& c) {
+                write_outcome(c, job.id, f.entry, status, bytes, metrics, problem);
+                return 0;
+            });
+            metrics_.set_store_up(true);
+            break;
+        } catch (const std::exception& e) {
+            // Unreachable, or refused (a result not stored whole under memory pressure).
+            metrics_.set_store_up(dynamic_cast<const StoreUnavailable*>(&e) == nullptr);
+            if (Clock::now() + backoff > until) {
+                spdlog::error("job {}: its outcome could not be stored within {} s ({}); another replica will run it again",
+                              job.id, kOutcomeRetry.count(), e.what());
+                outcome = "lost";
+                break;
+            }
+            spdlog::warn("job {}: storing its outcome: {}; retrying in {} ms", job.id, e.what(), backoff.count());
+            std::this_thread::sleep_for(backoff);
+            backoff = std::min(backoff * 2, std::chrono::milliseconds(2000));
+        }
+    }
+    forget();
+    return outcome;
+}
+
+void RedisStore::write_outcome(redis::Connection& c, const std::string& id, const std::string& entry, JobStatus status,
+                               const std::string& bytes, const std::string& metrics, const std::string& error) {
+    const std::string rk = key("result", id);
+    const std::string ttl_ms = std::to_string(std::max<long long>(1, std::llround(config_.job_ttl_s * 1000)));
+    if (status == JobStatus::Succeeded) {
+        // The chunks, then "n": a result is complete once "n" is there. It expires by itself
+        // if the script below does not take it (the job ended elsewhere meanwhile).
+        std::vector<std::vector<std::string>> cmds{{"DEL", rk}};
+        size_t k = 0;
+        for (size_t at = 0; at < bytes.size() || k == 0; at += kChunk, ++k)
+            cmds.push_back({"HSET", rk, std::to_string(k), bytes.substr(at, kChunk)});
+        cmds.push_back({"HSET", rk, "n", std::to_string(k)});
+        cmds.push_back({"PEXPIRE", rk, ttl_ms});
+        for (const redis::Reply& r : c.pipeline(cmds))
+            if (r.is_error()) throw std::runtime_error("storing a result: " + r.str);
+    }
+    const redis::Reply r =
+        eval(c, kFinish,
+             {key("job", id), key("queue"), key("queued"), key("results"), key("result_bytes"), key("result_sizes"), rk},
+             {id, to_string(status), std::to_string(now_ms()), ttl_ms, metrics, error, std::to_string(bytes.size()),
+              std::to_string(config_.result_memory_bytes), entry, "{meshd}:"});
+    if (r.integer == -1) throw std::runtime_error("job " + id + ": its result was not stored whole");
+    if (r.integer == 0) spdlog::info("job {} had already ended elsewhere; this run's outcome is dropped", id);
+}
+
+}  // namespace meshd::server
