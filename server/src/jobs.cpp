@@ -187,6 +187,12 @@ size_t JobManager::queued() {
     return queue_.size();
 }
 
+size_t JobManager::kept() {
+    housekeeping();
+    std::lock_guard<std::mutex> lock(m_);
+    return jobs_.size();
+}
+
 Submission JobManager::submit(const std::string&, api::MeshRequest request, double parse_s, const std::string& owner) {
     auto job = submit(std::move(request), parse_s, owner);
     if (!job) return {draining_ ? Submission::Refusal::Draining : Submission::Refusal::QueueFull, ""};

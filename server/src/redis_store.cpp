@@ -18,6 +18,7 @@ using Clock = std::chrono::steady_clock;
 using json = nlohmann::json;
 
 constexpr const char* kGroup = "workers";
+const std::string kPrefix = "{meshd}:";
 /// A job whose replica stopped this many times is failed instead of run again: it is
 /// probably what stops them.
 constexpr int kMaxRuns = 5;
@@ -28,115 +29,152 @@ constexpr size_t kChunk = size_t{8} << 20;
 /// is left to its lease (another replica runs it again).
 constexpr std::chrono::seconds kOutcomeRetry{120};
 
-// KEYS: job, queue, queued. ARGV: id, bound, now, body, foam, owner.
-constexpr const char* kSubmit = R"lua(
+// Every script takes the job's key as KEYS[1] and the key prefix as ARGV[1]; the other keys
+// are named from the prefix (they share its hash tag, so a Cluster keeps them in one slot).
+// kLib is their common start: the budget of kept results and the bound on finished records.
+const std::string kLib = R"lua(
+local P = ARGV[1]
+local function drop_result(id)
+  local b = tonumber(redis.call('HGET', P .. 'result_sizes', id) or '0')
+  redis.call('HDEL', P .. 'result_sizes', id)
+  redis.call('ZREM', P .. 'results', id)
+  redis.call('DEL', P .. 'result:' .. id)
+  return redis.call('DECRBY', P .. 'result_bytes', b)
+end
+-- Finished records past their time leave (their hashes expire by themselves), and the
+-- oldest beyond the bound are forgotten; their results leave the budget.
+local function trim(now, ttl, max)
+  for _, old in ipairs(redis.call('ZRANGEBYSCORE', P .. 'finished', '-inf', now - ttl)) do
+    redis.call('ZREM', P .. 'finished', old)
+    drop_result(old)
+  end
+  while redis.call('ZCARD', P .. 'finished') > max do
+    local oldest = redis.call('ZRANGE', P .. 'finished', 0, 0)[1]
+    redis.call('ZREM', P .. 'finished', oldest)
+    drop_result(oldest)
+    redis.call('DEL', P .. 'job:' .. oldest)
+  end
+end
+-- A job has just ended.
+local function ended(id, now, ttl, max)
+  redis.call('DECR', P .. 'active')
+  redis.call('ZADD', P .. 'finished', now, id)
+  trim(now, ttl, max)
+end
+)lua";
+
+// ARGV: prefix, now, ttl ms, max finished. -> the job records kept
+const std::string kKept = kLib + R"lua(
+trim(tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4]))
+return redis.call('ZCARD', P .. 'finished') + math.max(0, tonumber(redis.call('GET', P .. 'active') or '0'))
+)lua";
+
+// ARGV: prefix, id, bound, now, body, foam, owner. -> 1 queued | 0 queue full | -1 id taken
+const std::string kSubmit = kLib + R"lua(
 if redis.call('EXISTS', KEYS[1]) == 1 then return -1 end
-if tonumber(redis.call('GET', KEYS[3]) or '0') >= tonumber(ARGV[2]) then return 0 end
-local entry = redis.call('XADD', KEYS[2], '*', 'id', ARGV[1])
-redis.call('HSET', KEYS[1], 'status', 'queued', 'stage', 'queued', 'progress', '0', 'submitted', ARGV[3],
-  'request', ARGV[4], 'foam', ARGV[5], 'owner', ARGV[6], 'entry', entry, 'runs', '0')
-redis.call('INCR', KEYS[3])
+if tonumber(redis.call('GET', P .. 'queued') or '0') >= tonumber(ARGV[3]) then return 0 end
+local entry = redis.call('XADD', P .. 'queue', '*', 'id', ARGV[2])
+redis.call('HSET', KEYS[1], 'status', 'queued', 'stage', 'queued', 'progress', '0', 'submitted', ARGV[4],
+  'request', ARGV[5], 'foam', ARGV[6], 'owner', ARGV[7], 'entry', entry, 'runs', '0')
+redis.call('INCR', P .. 'queued')
+redis.call('INCR', P .. 'active')
 return 1
 )lua";
 
-// KEYS: job, queued. ARGV: consumer, now, max runs, entry.
+// ARGV: prefix, consumer, now, max runs, entry.
 // -> {'run', request, runs} | {'poison', runs} | {'final'} | {'gone'} | {'stale'}
-constexpr const char* kStart = R"lua(
+const std::string kStart = R"lua(
+local P = ARGV[1]
 local f = redis.call('HMGET', KEYS[1], 'status', 'runs', 'request', 'entry')
 if not f[1] then return {'gone'} end
 if f[1] ~= 'queued' and f[1] ~= 'running' then return {'final'} end
-if f[4] ~= ARGV[4] then return {'stale'} end
-if f[1] == 'queued' then redis.call('DECR', KEYS[2]) end
+if f[4] ~= ARGV[5] then return {'stale'} end
+if f[1] == 'queued' then redis.call('DECR', P .. 'queued') end
 local runs = tonumber(f[2]) + 1
-redis.call('HSET', KEYS[1], 'status', 'running', 'stage', 'starting', 'progress', '0', 'runner', ARGV[1],
-  'runs', tostring(runs), 'started', ARGV[2])
-if runs > tonumber(ARGV[3]) then return {'poison', tostring(runs - 1)} end
+redis.call('HSET', KEYS[1], 'status', 'running', 'stage', 'starting', 'progress', '0', 'runner', ARGV[2],
+  'runs', tostring(runs), 'started', ARGV[3])
+if runs > tonumber(ARGV[4]) then return {'poison', tostring(runs - 1)} end
 return {'run', f[3], tostring(runs)}
 )lua";
 
-// KEYS: job, queue. ARGV: consumer, entry, stage, progress. -> ok | cancel | moved | final
-constexpr const char* kHeartbeat = R"lua(
+// ARGV: prefix, consumer, entry, stage, progress. -> ok | cancel | moved | final
+const std::string kHeartbeat = R"lua(
+local P = ARGV[1]
 local f = redis.call('HMGET', KEYS[1], 'status', 'runner', 'cancel')
 if f[1] ~= 'running' then return 'final' end
-if f[2] ~= ARGV[1] then return 'moved' end
-redis.call('HSET', KEYS[1], 'stage', ARGV[3], 'progress', ARGV[4])
-local p = redis.call('XPENDING', KEYS[2], 'workers', ARGV[2], ARGV[2], 1)
-if p[1] and p[1][2] == ARGV[1] then redis.call('XCLAIM', KEYS[2], 'workers', ARGV[1], 0, ARGV[2], 'JUSTID') end
+if f[2] ~= ARGV[2] then return 'moved' end
+redis.call('HSET', KEYS[1], 'stage', ARGV[4], 'progress', ARGV[5])
+local p = redis.call('XPENDING', P .. 'queue', 'workers', ARGV[3], ARGV[3], 1)
+if p[1] and p[1][2] == ARGV[2] then redis.call('XCLAIM', P .. 'queue', 'workers', ARGV[2], 0, ARGV[3], 'JUSTID') end
 if f[3] == '1' then return 'cancel' end
 return 'ok'
 )lua";
 
-// KEYS: job, queue, queued, results, result_bytes, result_sizes, result.
-// ARGV: id, status, now, ttl ms, metrics, error, bytes, budget, entry, key prefix.
+// ARGV: prefix, id, status, now, ttl ms, metrics, error, bytes, budget, entry, max finished.
 // -> 1 written | 0 the job had already ended (or is gone) | -1 no complete result stored
-constexpr const char* kFinish = R"lua(
+const std::string kFinish = kLib + R"lua(
 local s = redis.call('HGET', KEYS[1], 'status')
+local rk = P .. 'result:' .. ARGV[2]
 if s ~= 'queued' and s ~= 'running' then
-  redis.call('XACK', KEYS[2], 'workers', ARGV[9])
-  redis.call('XDEL', KEYS[2], ARGV[9])
+  redis.call('XACK', P .. 'queue', 'workers', ARGV[10])
+  redis.call('XDEL', P .. 'queue', ARGV[10])
   return 0
 end
-if ARGV[2] == 'succeeded' and redis.call('HEXISTS', KEYS[7], 'n') == 0 then return -1 end
-redis.call('XACK', KEYS[2], 'workers', ARGV[9])
-redis.call('XDEL', KEYS[2], ARGV[9])
-if s == 'queued' then redis.call('DECR', KEYS[3]) end
-local ttl = tonumber(ARGV[4])
-redis.call('HSET', KEYS[1], 'status', ARGV[2], 'stage', ARGV[2], 'finished', ARGV[3])
+if ARGV[3] == 'succeeded' and redis.call('HEXISTS', rk, 'n') == 0 then return -1 end
+redis.call('XACK', P .. 'queue', 'workers', ARGV[10])
+redis.call('XDEL', P .. 'queue', ARGV[10])
+if s == 'queued' then redis.call('DECR', P .. 'queued') end
+local now, ttl = tonumber(ARGV[4]), tonumber(ARGV[5])
+redis.call('HSET', KEYS[1], 'status', ARGV[3], 'stage', ARGV[3], 'finished', ARGV[4])
 redis.call('HDEL', KEYS[1], 'request')
-if ARGV[6] ~= '' then redis.call('HSET', KEYS[1], 'error', ARGV[6]) end
+if ARGV[7] ~= '' then redis.call('HSET', KEYS[1], 'error', ARGV[7]) end
 redis.call('PEXPIRE', KEYS[1], ttl)
-if ARGV[2] ~= 'succeeded' then return 1 end
-redis.call('HSET', KEYS[1], 'progress', '1', 'metrics', ARGV[5])
-local now = tonumber(ARGV[3])
-local function drop(id)
-  local b = tonumber(redis.call('HGET', KEYS[6], id) or '0')
-  redis.call('HDEL', KEYS[6], id)
-  redis.call('ZREM', KEYS[4], id)
-  redis.call('DEL', ARGV[10] .. 'result:' .. id)
-  return redis.call('DECRBY', KEYS[5], b)
-end
-for _, id in ipairs(redis.call('ZRANGEBYSCORE', KEYS[4], '-inf', now - ttl)) do drop(id) end
-redis.call('ZADD', KEYS[4], now, ARGV[1])
-redis.call('HSET', KEYS[6], ARGV[1], ARGV[7])
-redis.call('PEXPIRE', KEYS[7], ttl)
-local total = redis.call('INCRBY', KEYS[5], tonumber(ARGV[7]))
-while total > tonumber(ARGV[8]) do
-  local oldest = redis.call('ZRANGE', KEYS[4], 0, 0)
-  if #oldest == 0 then break end
-  total = drop(oldest[1])
-  local job = ARGV[10] .. 'job:' .. oldest[1]
+ended(ARGV[2], now, ttl, tonumber(ARGV[11]))
+if ARGV[3] ~= 'succeeded' or redis.call('EXISTS', KEYS[1]) == 0 then return 1 end
+redis.call('HSET', KEYS[1], 'progress', '1', 'metrics', ARGV[6])
+redis.call('ZADD', P .. 'results', now, ARGV[2])
+redis.call('HSET', P .. 'result_sizes', ARGV[2], ARGV[8])
+redis.call('PEXPIRE', rk, ttl)
+local total = redis.call('INCRBY', P .. 'result_bytes', tonumber(ARGV[8]))
+while total > tonumber(ARGV[9]) do
+  local oldest = redis.call('ZRANGE', P .. 'results', 0, 0)[1]
+  if not oldest then break end
+  total = drop_result(oldest)
+  local job = P .. 'job:' .. oldest
   if redis.call('EXISTS', job) == 1 then redis.call('HSET', job, 'expired', '1') end
 end
 return 1
 )lua";
 
-// KEYS: job, queued, queue. ARGV: now, ttl ms. -> 0 unknown | 1
-constexpr const char* kCancel = R"lua(
+// ARGV: prefix, now, ttl ms, max finished. -> 0 unknown | 1
+const std::string kCancel = kLib + R"lua(
 local f = redis.call('HMGET', KEYS[1], 'status', 'entry')
 if not f[1] then return 0 end
 if f[1] == 'queued' then
-  redis.call('DECR', KEYS[2])
-  redis.call('HSET', KEYS[1], 'status', 'cancelled', 'stage', 'cancelled', 'finished', ARGV[1], 'cancel', '1')
+  redis.call('DECR', P .. 'queued')
+  redis.call('HSET', KEYS[1], 'status', 'cancelled', 'stage', 'cancelled', 'finished', ARGV[2], 'cancel', '1')
   redis.call('HDEL', KEYS[1], 'request')
-  redis.call('XACK', KEYS[3], 'workers', f[2])
-  redis.call('XDEL', KEYS[3], f[2])
-  redis.call('PEXPIRE', KEYS[1], ARGV[2])
+  redis.call('XACK', P .. 'queue', 'workers', f[2])
+  redis.call('XDEL', P .. 'queue', f[2])
+  redis.call('PEXPIRE', KEYS[1], ARGV[3])
+  ended(string.sub(KEYS[1], #P + 5), tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4]))
 elseif f[1] == 'running' then
   redis.call('HSET', KEYS[1], 'cancel', '1')
 end
 return 1
 )lua";
 
-// KEYS: job, queued, queue. ARGV: consumer, entry, idle ms. -> 1 handed back | 0 not ours
-constexpr const char* kHandBack = R"lua(
+// ARGV: prefix, consumer, entry, idle ms. -> 1 handed back | 0 not this replica's
+const std::string kHandBack = R"lua(
+local P = ARGV[1]
 local f = redis.call('HMGET', KEYS[1], 'status', 'runner')
-if f[1] ~= 'running' or f[2] ~= ARGV[1] then return 0 end
+if f[1] ~= 'running' or f[2] ~= ARGV[2] then return 0 end
 redis.call('HSET', KEYS[1], 'status', 'queued', 'stage', 'queued', 'progress', '0')
 redis.call('HINCRBY', KEYS[1], 'runs', -1)
-redis.call('INCR', KEYS[2])
-local p = redis.call('XPENDING', KEYS[3], 'workers', ARGV[2], ARGV[2], 1)
-if p[1] and p[1][2] == ARGV[1] then
-  redis.call('XCLAIM', KEYS[3], 'workers', ARGV[1], 0, ARGV[2], 'IDLE', ARGV[3], 'JUSTID')
+redis.call('INCR', P .. 'queued')
+local p = redis.call('XPENDING', P .. 'queue', 'workers', ARGV[3], ARGV[3], 1)
+if p[1] and p[1][2] == ARGV[2] then
+  redis.call('XCLAIM', P .. 'queue', 'workers', ARGV[2], 0, ARGV[3], 'IDLE', ARGV[4], 'JUSTID')
 end
 return 1
 )lua";
@@ -227,17 +265,20 @@ RedisStore::~RedisStore() {
     stop();
 }
 
-std::string RedisStore::key(const std::string& kind, const std::string& id) const {
-    return id.empty() ? "{meshd}:" + kind : "{meshd}:" + kind + ":" + id;
+std::string RedisStore::ttl_ms() const {
+    return std::to_string(std::max<long long>(1, std::llround(config_.job_ttl_s * 1000)));
 }
 
-redis::Reply RedisStore::eval(redis::Connection& c, const char* script, const std::vector<std::string>& keys,
+std::string RedisStore::key(const std::string& kind, const std::string& id) const {
+    return id.empty() ? kPrefix + kind : kPrefix + kind + ":" + id;
+}
+
+redis::Reply RedisStore::eval(redis::Connection& c, const std::string& script, const std::string& id,
                               const std::vector<std::string>& args) {
-    std::vector<std::string> argv{"EVAL", script, std::to_string(keys.size())};
-    argv.insert(argv.end(), keys.begin(), keys.end());
+    std::vector<std::string> argv{"EVAL", script, "1", key("job", id), kPrefix};
     argv.insert(argv.end(), args.begin(), args.end());
     redis::Reply r = c.command(argv);
-    // A script error is a bug or a store that is not Redis 7: no retry helps.
+    // A script error is a bug or a store older than Redis 7: no retry helps.
     if (r.is_error()) throw std::runtime_error("store script failed: " + r.str);
     return r;
 }
@@ -271,7 +312,8 @@ void RedisStore::ensure_group(redis::Connection& c) {
 void RedisStore::start() {
     claimer_ = std::thread([this] { claim_loop(); });
     heartbeat_ = std::thread([this] { heartbeat_loop(); });
-    spdlog::info("job store: {} as consumer {} (lease {} s)", endpoint_.describe(), consumer_, config_.lease_s);
+    writer_ = std::thread([this] { writer_loop(); });
+    spdlog::info("shared job store {}, this replica its consumer {} (lease {} s)", endpoint_.describe(), consumer_, config_.lease_s);
 }
 
 void RedisStore::stop_claiming() {
@@ -281,6 +323,14 @@ void RedisStore::stop_claiming() {
 }
 
 void RedisStore::stop() {
+    {
+        // Outcomes not yet written get the drain's time to reach the store.
+        std::lock_guard<std::mutex> lock(m_);
+        writer_stop_ = true;
+        writer_deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(config_.drain_s));
+    }
+    cv_.notify_all();
+    if (writer_.joinable()) writer_.join();
     stopping_ = true;
     cv_.notify_all();
     if (claimer_.joinable()) claimer_.join();
@@ -301,8 +351,7 @@ Submission RedisStore::submit(const std::string& body, api::MeshRequest request,
         for (;;) {
             const std::string id = JobManager::new_id();
             const redis::Reply r =
-                eval(c, kSubmit, {key("job", id), key("queue"), key("queued")},
-                     {id, std::to_string(config_.queue_length), std::to_string(now_ms()), body, foam, owner});
+                eval(c, kSubmit, id, {id, std::to_string(config_.queue_length), std::to_string(now_ms()), body, foam, owner});
             if (r.integer == -1) continue;  // an id already taken (2^-128): draw again
             if (r.integer == 0) return Submission{Submission::Refusal::QueueFull, ""};
             return Submission{Submission::Refusal::None, id};
@@ -380,8 +429,7 @@ std::optional<JobMesh> RedisStore::mesh(const std::string& id) {
 
 std::optional<JobInfo> RedisStore::cancel(const std::string& id) {
     const redis::Reply r = with_store("cancel", [&](redis::Connection& c) {
-        return eval(c, kCancel, {key("job", id), key("queued"), key("queue")},
-                    {std::to_string(now_ms()), std::to_string(std::max<long long>(1, std::llround(config_.job_ttl_s * 1000)))});
+        return eval(c, kCancel, id, {std::to_string(now_ms()), ttl_ms(), std::to_string(config_.max_finished_jobs)});
     });
     if (r.integer == 0) return std::nullopt;
     return info(id);
@@ -404,6 +452,14 @@ size_t RedisStore::queued() {
     } catch (const StoreUnavailable&) {
         return 0;
     }
+}
+
+size_t RedisStore::kept() {
+    return with_store("kept", [&](redis::Connection& c) {
+        // KEYS[1] is only there for the Cluster's routing: any key of the tag will do.
+        const redis::Reply r = eval(c, kKept, "kept", {std::to_string(now_ms()), ttl_ms(), std::to_string(config_.max_finished_jobs)});
+        return static_cast<size_t>(std::max(0LL, r.integer));
+    });
 }
 
 // ---- claiming (the claimer thread) ----
@@ -475,8 +531,7 @@ bool RedisStore::claim_one(redis::Connection& c) {
 }
 
 void RedisStore::start_entry(redis::Connection& c, const std::string& entry, const std::string& id, bool reclaimed) {
-    const redis::Reply r = eval(c, kStart, {key("job", id), key("queued")},
-                                {consumer_, std::to_string(now_ms()), std::to_string(kMaxRuns), entry});
+    const redis::Reply r = eval(c, kStart, id, {consumer_, std::to_string(now_ms()), std::to_string(kMaxRuns), entry});
     const std::string what = r.elements.empty() ? "" : r.elements[0].str;
     if (what != "run" && what != "poison") {
         // Ended (cancelled while queued), forgotten, or an entry that is not the job's own.
@@ -526,7 +581,7 @@ void RedisStore::start_entry(redis::Connection& c, const std::string& entry, con
 
 void RedisStore::hand_back(redis::Connection& c, const std::string& id, const std::string& entry) {
     // Idle as if its lease had lapsed a day ago: the next XAUTOCLAIM anywhere takes it.
-    eval(c, kHandBack, {key("job", id), key("queued"), key("queue")}, {consumer_, entry, "86400000"});
+    eval(c, kHandBack, id, {consumer_, entry, "86400000"});
     metrics_.store_event("handed_back");
     spdlog::info("job {} handed back to the queue", id);
 }
@@ -552,7 +607,7 @@ void RedisStore::heartbeat_loop() {
                     stage = f.job->stage;
                     progress = std::to_string(f.job->progress);
                 }
-                cmds.push_back({"EVAL", kHeartbeat, "2", key("job", id), key("queue"), consumer_, f.entry, stage, progress});
+                cmds.push_back({"EVAL", kHeartbeat, "1", key("job", id), kPrefix, consumer_, f.entry, stage, progress});
             }
             try {
                 const auto t0 = Clock::now();
@@ -633,38 +688,67 @@ std::string RedisStore::finish(Job& job) {
         }
     }
     if (error) problem = error->to_json();
-    const auto until = Clock::now() + kOutcomeRetry;
+    // Written by the writer thread: this worker is free for the next job even while the
+    // store is away. The job stays in flight (its lease renewed) until it is written.
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        outcomes_.push_back(Outcome{job.id, f.entry, status, std::move(bytes), std::move(metrics), std::move(problem),
+                                    Clock::now() + kOutcomeRetry});
+    }
+    cv_.notify_all();
+    return outcome;
+}
+
+void RedisStore::writer_loop() {
+    redis::Connection c(endpoint_, std::chrono::milliseconds(5000));
     auto backoff = std::chrono::milliseconds(100);
+    std::unique_lock<std::mutex> lock(m_);
     for (;;) {
+        cv_.wait(lock, [&] { return !outcomes_.empty() || writer_stop_; });
+        if (outcomes_.empty()) return;
+        if (writer_stop_ && Clock::now() > writer_deadline_) {
+            for (const Outcome& o : outcomes_)
+                spdlog::error("job {}: its outcome was not stored before the replica stopped; another replica will run it again", o.id);
+            outcomes_.clear();
+            return;
+        }
+        Outcome o = outcomes_.front();
+        lock.unlock();
+        bool done = false;
+        const auto t0 = Clock::now();
         try {
-            with_store("finish", [&](redis::Connection& c) {
-                write_outcome(c, job.id, f.entry, status, bytes, metrics, problem);
-                return 0;
-            });
+            write_outcome(c, o.id, o.entry, o.status, o.bytes, o.metrics, o.problem);
+            metrics_.store_op("finish", std::chrono::duration<double>(Clock::now() - t0).count(), true);
             metrics_.set_store_up(true);
-            break;
+            backoff = std::chrono::milliseconds(100);
+            done = true;
         } catch (const std::exception& e) {
             // Unreachable, or refused (a result not stored whole under memory pressure).
-            metrics_.set_store_up(dynamic_cast<const StoreUnavailable*>(&e) == nullptr);
-            if (Clock::now() + backoff > until) {
+            metrics_.store_op("finish", 0.0, false);
+            metrics_.set_store_up(dynamic_cast<const redis::Unavailable*>(&e) == nullptr);
+            if (Clock::now() + backoff > o.until) {
                 spdlog::error("job {}: its outcome could not be stored within {} s ({}); another replica will run it again",
-                              job.id, kOutcomeRetry.count(), e.what());
-                outcome = "lost";
-                break;
+                              o.id, kOutcomeRetry.count(), e.what());
+                done = true;
+            } else {
+                spdlog::warn("job {}: storing its outcome: {}; retrying in {} ms", o.id, e.what(), backoff.count());
             }
-            spdlog::warn("job {}: storing its outcome: {}; retrying in {} ms", job.id, e.what(), backoff.count());
-            std::this_thread::sleep_for(backoff);
+        }
+        lock.lock();
+        if (done) {
+            outcomes_.pop_front();
+            inflight_.erase(o.id);
+        } else {
+            cv_.wait_for(lock, backoff, [&] { return writer_stop_ && Clock::now() > writer_deadline_; });
             backoff = std::min(backoff * 2, std::chrono::milliseconds(2000));
         }
     }
-    forget();
-    return outcome;
 }
 
 void RedisStore::write_outcome(redis::Connection& c, const std::string& id, const std::string& entry, JobStatus status,
                                const std::string& bytes, const std::string& metrics, const std::string& error) {
     const std::string rk = key("result", id);
-    const std::string ttl_ms = std::to_string(std::max<long long>(1, std::llround(config_.job_ttl_s * 1000)));
+    const std::string ttl = ttl_ms();
     if (status == JobStatus::Succeeded) {
         // The chunks, then "n": a result is complete once "n" is there. It expires by itself
         // if the script below does not take it (the job ended elsewhere meanwhile).
@@ -673,15 +757,14 @@ void RedisStore::write_outcome(redis::Connection& c, const std::string& id, cons
         for (size_t at = 0; at < bytes.size() || k == 0; at += kChunk, ++k)
             cmds.push_back({"HSET", rk, std::to_string(k), bytes.substr(at, kChunk)});
         cmds.push_back({"HSET", rk, "n", std::to_string(k)});
-        cmds.push_back({"PEXPIRE", rk, ttl_ms});
+        cmds.push_back({"PEXPIRE", rk, ttl});
         for (const redis::Reply& r : c.pipeline(cmds))
             if (r.is_error()) throw std::runtime_error("storing a result: " + r.str);
     }
     const redis::Reply r =
-        eval(c, kFinish,
-             {key("job", id), key("queue"), key("queued"), key("results"), key("result_bytes"), key("result_sizes"), rk},
-             {id, to_string(status), std::to_string(now_ms()), ttl_ms, metrics, error, std::to_string(bytes.size()),
-              std::to_string(config_.result_memory_bytes), entry, "{meshd}:"});
+        eval(c, kFinish, id,
+             {id, to_string(status), std::to_string(now_ms()), ttl, metrics, error, std::to_string(bytes.size()),
+              std::to_string(config_.result_memory_bytes), entry, std::to_string(config_.max_finished_jobs)});
     if (r.integer == -1) throw std::runtime_error("job " + id + ": its result was not stored whole");
     if (r.integer == 0) spdlog::info("job {} had already ended elsewhere; this run's outcome is dropped", id);
 }

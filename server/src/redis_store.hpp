@@ -26,6 +26,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -62,6 +63,7 @@ public:
     std::optional<JobInfo> cancel(const std::string& id) override;
     bool reachable() override;
     size_t queued() override;
+    size_t kept() override;
     std::string describe() const override { return "redis " + endpoint_.describe(); }
 
     /// This replica's consumer name in the group.
@@ -79,13 +81,23 @@ private:
     // Connections for the HTTP threads, opened as needed and reused.
     class Pool;
 
+    // A job's end, waiting to be written to the store.
+    struct Outcome {
+        std::string id, entry;
+        JobStatus status;
+        std::string bytes, metrics, problem;
+        std::chrono::steady_clock::time_point until;  ///< retried until then
+    };
+
     void claim_loop();
     void heartbeat_loop();
+    /// Writes the outcomes in order, retrying with backoff while the store is away.
+    void writer_loop();
     /// One claim (a lapsed lease first, then a new entry); false when none was found.
     bool claim_one(redis::Connection& c);
     void start_entry(redis::Connection& c, const std::string& entry, const std::string& id, bool reclaimed);
-    /// The worker's end of a claimed job: writes its outcome (with retries while the store
-    /// is away) or hands it back; returns the outcome for the metrics.
+    /// The worker's end of a claimed job: queues its outcome for the writer thread, or hands
+    /// it back; returns the outcome for the metrics.
     std::string finish(Job& job);
     /// Writes a final status (and the result) for job `id`; throws redis::Unavailable.
     void write_outcome(redis::Connection& c, const std::string& id, const std::string& entry, JobStatus status,
@@ -95,8 +107,10 @@ private:
     /// Runs `f` on a pooled connection, timing it; a lost store becomes StoreUnavailable.
     template <class F>
     auto with_store(const char* op, F&& f);
-    redis::Reply eval(redis::Connection& c, const char* script, const std::vector<std::string>& keys,
+    /// Runs one of the scripts on job `id` (KEYS[1] its key, ARGV[1] the key prefix, then `args`).
+    redis::Reply eval(redis::Connection& c, const std::string& script, const std::string& id,
                       const std::vector<std::string>& args);
+    std::string ttl_ms() const;
     std::string key(const std::string& kind, const std::string& id = {}) const;
     /// Sleeps up to `d` unless the store stops meanwhile.
     void pause(std::chrono::milliseconds d);
@@ -115,7 +129,10 @@ private:
     std::atomic<bool> stopping_{false};
     bool group_ready_ = false;  ///< under m_
     std::string autoclaim_cursor_ = "0-0";  ///< the claimer thread's
-    std::thread claimer_, heartbeat_;
+    std::deque<Outcome> outcomes_;
+    bool writer_stop_ = false;  ///< under m_
+    std::chrono::steady_clock::time_point writer_deadline_;
+    std::thread claimer_, heartbeat_, writer_;
 };
 
 }  // namespace meshd::server

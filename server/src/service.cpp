@@ -301,6 +301,11 @@ void Service::install_probes(httplib::Server& s, bool document) {
     add("get", "/metrics");
     s.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
         metrics_.set_queue(store_->queued(), jobs_->busy());
+        try {
+            metrics_.set_jobs_kept(store_->kept());
+        } catch (const StoreUnavailable&) {
+            // the figure from the last time the store answered stays
+        }
         res.set_content(metrics_.render(), "text/plain; version=0.0.4; charset=utf-8");
     });
 }

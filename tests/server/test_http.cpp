@@ -10,6 +10,8 @@
 #include <set>
 #include <sstream>
 
+#include "http_support.hpp"
+#include "redis_process.hpp"
 #include "server_process.hpp"
 
 #include <arpa/inet.h>
@@ -18,47 +20,18 @@
 #include <sys/socket.h>
 
 using json = nlohmann::ordered_json;
+using meshd::test::RedisProcess;
 using meshd::test::ServerProcess;
 
+using meshd::test::client;
+using meshd::test::eventually;
+using meshd::test::naca_request;
 using meshd::test::read_file;
+using meshd::test::slow_request;
+using meshd::test::wait_for_job;
 
 namespace {
 
-
-const std::string& naca_request() {
-    static const std::string s = read_file(MESHD_SOURCE_DIR "/examples/naca0012.json");
-    return s;
-}
-
-// A request that takes a while (about a second or more): a fine uniform square.
-std::string slow_request(double size = 0.0015) {
-    json j = json::parse(R"({"geometry": {"points": {"A": [0,0], "B": [1,0], "C": [1,1], "D": [0,1]},
-        "curves": {"b": {"type": "line", "from": "A", "to": "B"}, "r": {"type": "line", "from": "B", "to": "C"},
-                   "t": {"type": "line", "from": "C", "to": "D"}, "l": {"type": "line", "from": "D", "to": "A"}},
-        "loops": [["b", "r", "t", "l"]]}, "density": {"size": 0.1}})");
-    j["density"]["size"] = size;
-    return j.dump();
-}
-
-httplib::Client client(const ServerProcess& s) {
-    httplib::Client c("127.0.0.1", s.port());
-    c.set_read_timeout(60, 0);
-    c.set_write_timeout(60, 0);
-    return c;
-}
-
-json wait_for_job(httplib::Client& c, const std::string& id, double seconds = 60) {
-    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    json j;
-    while (std::chrono::steady_clock::now() < until) {
-        auto r = c.Get(("/v1/jobs/" + id).c_str());
-        if (!r || r->status != 200) return json{{"status", "http-" + std::to_string(r ? r->status : -1)}};
-        j = json::parse(r->body);
-        if (j["status"] != "queued" && j["status"] != "running") return j;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return j;
-}
 
 // A client on a raw socket: sends what it is given, and can leave at any moment.
 class RawConnection {
@@ -111,17 +84,6 @@ double series(const std::string& page, const std::string& name) {
     return -1;
 }
 
-// Polls until `done` holds, at most `seconds` (a bound for failures, not a timing).
-template <class F>
-bool eventually(F&& done, double seconds = 120) {
-    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < until) {
-        if (done()) return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return false;
-}
-
 std::string cli_output(const std::string& format) {
     // One file per process and call: ctest runs tests in parallel processes.
     static int calls = 0;
@@ -134,8 +96,28 @@ std::string cli_output(const std::string& format) {
 
 }  // namespace
 
-TEST(Http, HealthReadinessMetricsOpenApi) {
-    ServerProcess s({});
+// Every test runs against both job stores (API.md: the service behaves the same with one
+// process's memory and with a Redis shared by replicas): the parameter names the store.
+class Http : public ::testing::TestWithParam<std::string> {
+protected:
+    std::unique_ptr<ServerProcess> serve(std::vector<std::string> args) {
+        if (GetParam() == "redis") {
+            if (!redis_) redis_ = std::make_unique<RedisProcess>();
+            args.insert(args.end(), {"--store", redis_->url()});
+        }
+        return std::make_unique<ServerProcess>(args);
+    }
+
+private:
+    std::unique_ptr<RedisProcess> redis_;
+};
+
+INSTANTIATE_TEST_SUITE_P(Stores, Http, ::testing::Values("memory", "redis"),
+                         [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
+
+TEST_P(Http, HealthReadinessMetricsOpenApi) {
+    auto server = serve({});
+    ServerProcess& s = *server;
     auto c = client(s);
     for (const char* p : {"/healthz", "/livez", "/readyz"}) {
         auto r = c.Get(p);
@@ -183,8 +165,9 @@ TEST(Http, HealthReadinessMetricsOpenApi) {
     EXPECT_EQ(none->get_header_value("Content-Type"), "application/problem+json");
 }
 
-TEST(Http, SyncMeshInEveryFormatMatchesTheCli) {
-    ServerProcess s({});
+TEST_P(Http, SyncMeshInEveryFormatMatchesTheCli) {
+    auto server = serve({});
+    ServerProcess& s = *server;
     auto c = client(s);
     auto r = c.Post("/v1/meshes", naca_request(), "application/json");
     ASSERT_TRUE(r);
@@ -209,8 +192,9 @@ TEST(Http, SyncMeshInEveryFormatMatchesTheCli) {
     EXPECT_EQ(bad->status, 400);
 }
 
-TEST(Http, AsyncLifeCycle) {
-    ServerProcess s({});
+TEST_P(Http, AsyncLifeCycle) {
+    auto server = serve({});
+    ServerProcess& s = *server;
     auto c = client(s);
     auto r = c.Post("/v1/jobs", naca_request(), "application/json");
     ASSERT_TRUE(r);
@@ -237,8 +221,9 @@ TEST(Http, AsyncLifeCycle) {
     EXPECT_EQ(unknown->status, 404);
 }
 
-TEST(Http, NotFinishedThenCancelWhileRunning) {
-    ServerProcess s({"--workers", "1"});
+TEST_P(Http, NotFinishedThenCancelWhileRunning) {
+    auto server = serve({"--workers", "1"});
+    ServerProcess& s = *server;
     auto c = client(s);
     auto r = c.Post("/v1/jobs", slow_request(0.0008), "application/json");
     ASSERT_TRUE(r);
@@ -276,8 +261,9 @@ TEST(Http, NotFinishedThenCancelWhileRunning) {
 // A finished job past its time is forgotten. With a time of zero every finished job is past
 // it, so no clock needs to advance: once the job is no longer queued or running, its mesh is
 // gone.
-TEST(Http, FinishedJobsExpire) {
-    ServerProcess s({"--job-ttl-s", "0"});
+TEST_P(Http, FinishedJobsExpire) {
+    auto server = serve({"--job-ttl-s", "0"});
+    ServerProcess& s = *server;
     auto c = client(s);
     auto r = c.Post("/v1/jobs", naca_request(), "application/json");
     ASSERT_TRUE(r);
@@ -290,12 +276,21 @@ TEST(Http, FinishedJobsExpire) {
     EXPECT_TRUE(later->status == 404 || later->status == 410) << later->status;
 }
 
-TEST(Http, QueueFullAnswers429WithRetryAfter) {
-    ServerProcess s({"--workers", "1", "--queue", "1"});
+TEST_P(Http, QueueFullAnswers429WithRetryAfter) {
+    auto server = serve({"--workers", "1", "--queue", "1"});
+    ServerProcess& s = *server;
     auto c = client(s);
     std::vector<std::string> ids;
     int refused = 0;
     for (int i = 0; i < 4; ++i) {
+        if (ids.size() == 1) {
+            // The first job has reached the only worker before the others come: one runs, one
+            // waits (with a shared store, a job waits in the store until a worker is free).
+            ASSERT_TRUE(eventually([&] {
+                auto st = c.Get(("/v1/jobs/" + ids[0]).c_str());
+                return st && json::parse(st->body)["status"] == "running";
+            }));
+        }
         auto r = c.Post("/v1/jobs", slow_request(0.001), "application/json");
         ASSERT_TRUE(r);
         if (r->status == 202) {
@@ -327,8 +322,9 @@ TEST(Http, QueueFullAnswers429WithRetryAfter) {
     EXPECT_EQ(again->status, 200);
 }
 
-TEST(Http, SigtermDrainsAndExitsZero) {
-    ServerProcess s({"--workers", "1", "--drain-s", "30"});
+TEST_P(Http, SigtermDrainsAndExitsZero) {
+    auto server = serve({"--workers", "1", "--drain-s", "30"});
+    ServerProcess& s = *server;
     auto c = client(s);
     auto r = c.Post("/v1/jobs", slow_request(0.002), "application/json");
     ASSERT_EQ(r->status, 202);
@@ -360,8 +356,9 @@ TEST(Http, SigtermDrainsAndExitsZero) {
     EXPECT_NE(log.find("job " + id + " succeeded"), std::string::npos) << log;
 }
 
-TEST(Http, CatalogueOfBadRequestsLeavesTheServerHealthy) {
-    ServerProcess s({"--max-body-mb", "8"});
+TEST_P(Http, CatalogueOfBadRequestsLeavesTheServerHealthy) {
+    auto server = serve({"--max-body-mb", "8"});
+    ServerProcess& s = *server;
     auto c = client(s);
     // A good job running meanwhile must not be disturbed.
     auto bg = c.Post("/v1/jobs", slow_request(0.004), "application/json");
@@ -405,8 +402,9 @@ TEST(Http, CatalogueOfBadRequestsLeavesTheServerHealthy) {
     EXPECT_EQ(s.log().find(" 500 "), std::string::npos);
 }
 
-TEST(Http, ResultsOverTheMemoryBudgetAreDroppedOldestFirst) {
-    ServerProcess s({"--result-memory-mb", "1"});
+TEST_P(Http, ResultsOverTheMemoryBudgetAreDroppedOldestFirst) {
+    auto server = serve({"--result-memory-mb", "1"});
+    ServerProcess& s = *server;
     auto c = client(s);
     std::vector<std::string> ids;
     for (int i = 0; i < 6; ++i) {  // each NACA 0012 result holds about 0.3 MB
@@ -423,8 +421,9 @@ TEST(Http, ResultsOverTheMemoryBudgetAreDroppedOldestFirst) {
     EXPECT_EQ(newest->status, 200);
 }
 
-TEST(Http, JsonLogLinesParse) {
-    ServerProcess s({"--log-json"});
+TEST_P(Http, JsonLogLinesParse) {
+    auto server = serve({"--log-json"});
+    ServerProcess& s = *server;
     auto c = client(s);
     ASSERT_EQ(c.Post("/v1/meshes", naca_request(), "application/json")->status, 200);
     ASSERT_EQ(c.Post("/v1/meshes", "{", "application/json")->status, 400);
@@ -444,8 +443,9 @@ TEST(Http, JsonLogLinesParse) {
     EXPECT_EQ(jobs, 1);
 }
 
-TEST(Http, TimeoutFailsTheJobWithAProblem) {
-    ServerProcess s({"--job-timeout-s", "0.2"});
+TEST_P(Http, TimeoutFailsTheJobWithAProblem) {
+    auto server = serve({"--job-timeout-s", "0.2"});
+    ServerProcess& s = *server;
     auto c = client(s);
     auto r = c.Post("/v1/meshes", slow_request(0.0008), "application/json");
     ASSERT_TRUE(r);
@@ -467,8 +467,9 @@ double gauge(httplib::Client& c, const std::string& name) {
 
 // A synchronous request's job is dropped once its answer is taken: it used to stay for the
 // TTL and push asynchronous results out of the memory budget.
-TEST(Http, SyncMeshesLeaveNoJobRecordBehind) {
-    ServerProcess s({});
+TEST_P(Http, SyncMeshesLeaveNoJobRecordBehind) {
+    auto server = serve({});
+    ServerProcess& s = *server;
     auto c = client(s);
     for (int i = 0; i < 3; ++i) {
         auto r = c.Post("/v1/meshes", naca_request(), "application/json");
@@ -484,8 +485,9 @@ TEST(Http, SyncMeshesLeaveNoJobRecordBehind) {
 }
 
 // Finished job records are bounded (--max-finished-jobs): the oldest are forgotten first.
-TEST(Http, FinishedJobRecordsAreBounded) {
-    ServerProcess s({"--max-finished-jobs", "2"});
+TEST_P(Http, FinishedJobRecordsAreBounded) {
+    auto server = serve({"--max-finished-jobs", "2"});
+    ServerProcess& s = *server;
     auto c = client(s);
     std::vector<std::string> ids;
     for (int i = 0; i < 4; ++i) {
@@ -506,8 +508,9 @@ TEST(Http, FinishedJobRecordsAreBounded) {
 // --max-body-mb holds for chunked bodies too (cpp-httplib's own limit sees only
 // Content-Length; a 2 MiB chunked body to a 1 MiB server was read whole): 413, and the
 // server goes on.
-TEST(Http, ChunkedBodiesOverTheLimitAre413) {
-    ServerProcess s({"--max-body-mb", "1"});
+TEST_P(Http, ChunkedBodiesOverTheLimitAre413) {
+    auto server = serve({"--max-body-mb", "1"});
+    ServerProcess& s = *server;
     auto c = client(s);
     const std::string chunk(64u << 10, ' ');
     size_t sent = 0;
@@ -533,8 +536,9 @@ TEST(Http, ChunkedBodiesOverTheLimitAre413) {
 // Jobs whose results were evicted for memory stay answerable ("expired") but still count
 // against the bound on records and still expire: they used to leave the bookkeeping and stay
 // in the job table for good.
-TEST(Http, JobsEvictedForMemoryStillLeaveTheTable) {
-    ServerProcess s({"--result-memory-mb", "1", "--max-finished-jobs", "3"});
+TEST_P(Http, JobsEvictedForMemoryStillLeaveTheTable) {
+    auto server = serve({"--result-memory-mb", "1", "--max-finished-jobs", "3"});
+    ServerProcess& s = *server;
     auto c = client(s);
     for (int i = 0; i < 6; ++i) {  // each NACA 0012 result holds about 0.3 MB
         auto r = c.Post("/v1/jobs", naca_request(), "application/json");
@@ -548,8 +552,9 @@ TEST(Http, JobsEvictedForMemoryStillLeaveTheTable) {
 // With every HTTP thread of the main port held by a synchronous request, the probe port still
 // answers; and a synchronous request whose client leaves has its job cancelled (its two
 // meshes would take many seconds: here they end as soon as the clients close).
-TEST(Http, ProbesAnswerWhileEveryHttpThreadWaitsAndLeavingClientsCancelTheirJobs) {
-    ServerProcess s({"--workers", "2", "--http-threads", "2", "--probe-port", "0"});
+TEST_P(Http, ProbesAnswerWhileEveryHttpThreadWaitsAndLeavingClientsCancelTheirJobs) {
+    auto server = serve({"--workers", "2", "--http-threads", "2", "--probe-port", "0"});
+    ServerProcess& s = *server;
     ASSERT_GT(s.probe_port(), 0);
     httplib::Client probe("127.0.0.1", s.probe_port());
     auto page = [&] {
@@ -578,8 +583,9 @@ TEST(Http, ProbesAnswerWhileEveryHttpThreadWaitsAndLeavingClientsCancelTheirJobs
 
 // Running jobs share --memory-budget-mb by their forecast peaks: one larger than the budget is
 // refused at once; one that does not fit beside a running job waits for it.
-TEST(Http, JobsWaitForMemoryAndOneThatNeverFitsIs413) {
-    ServerProcess s({"--workers", "2", "--memory-budget-mb", "400"});
+TEST_P(Http, JobsWaitForMemoryAndOneThatNeverFitsIs413) {
+    auto server = serve({"--workers", "2", "--memory-budget-mb", "400"});
+    ServerProcess& s = *server;
     auto c = client(s);
     // About 2.3 million points: 16 MiB + 256 B per point is 600 MB, beyond 400.
     auto big = c.Post("/v1/meshes", slow_request(0.0007), "application/json");
@@ -624,8 +630,9 @@ TEST(Http, JobsWaitForMemoryAndOneThatNeverFitsIs413) {
 }
 
 // A body that arrives too slowly is refused once the server's time limit has passed: 408.
-TEST(Http, ABodyTrickledPastTheTimeLimitIs408) {
-    ServerProcess s({"--job-timeout-s", "0.2"});
+TEST_P(Http, ABodyTrickledPastTheTimeLimitIs408) {
+    auto server = serve({"--job-timeout-s", "0.2"});
+    ServerProcess& s = *server;
     const std::string body = slow_request(0.01);
     RawConnection conn(s.port());
     conn.send_text(post_head("/v1/meshes", body.size()));
@@ -642,8 +649,9 @@ TEST(Http, ABodyTrickledPastTheTimeLimitIs408) {
 
 // The foam options travel with an async job: its mesh fetched later as format=foam has the
 // patch types and the slab asked for (the request itself is released once the job has run).
-TEST(Http, AnAsyncJobKeepsItsFoamOptions) {
-    ServerProcess s({});
+TEST_P(Http, AnAsyncJobKeepsItsFoamOptions) {
+    auto server = serve({});
+    ServerProcess& s = *server;
     auto c = client(s);
     json req = json::parse(naca_request());
     req["options"]["patch_types"] = {{"wall", "wall"}};

@@ -105,6 +105,7 @@ public:
     std::optional<JobInfo> cancel(const std::string& id) override;
     bool reachable() override { return true; }
     size_t queued() override;
+    size_t kept() override;
     std::string describe() const override { return "memory"; }
 
     /// Runs a job of a shared store on this manager's workers: `job` has its id and

@@ -80,6 +80,8 @@ public:
     virtual bool reachable() = 0;
     /// Jobs waiting for a worker (across replicas for a shared store).
     virtual size_t queued() = 0;
+    /// Job records held: queued, running, and finished ones still answerable.
+    virtual size_t kept() = 0;
     /// A name for logs and metrics: "memory" or the store's address without secrets.
     virtual std::string describe() const = 0;
 };

@@ -1,0 +1,283 @@
+// Several meshd replicas sharing one job store: a real redis-server and real meshd processes
+// on loopback ports, killed and restarted as an orchestrator would.
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <set>
+
+#include "http_support.hpp"
+#include "redis_process.hpp"
+#include "server_process.hpp"
+
+using json = nlohmann::ordered_json;
+using meshd::test::client;
+using meshd::test::eventually;
+using meshd::test::naca_request;
+using meshd::test::RedisProcess;
+using meshd::test::ServerProcess;
+using meshd::test::slow_request;
+using meshd::test::wait_for_job;
+
+namespace {
+
+std::unique_ptr<ServerProcess> replica(const RedisProcess& redis, std::vector<std::string> args = {}) {
+    args.insert(args.end(), {"--store", redis.url()});
+    return std::make_unique<ServerProcess>(args);
+}
+
+std::string submit(httplib::Client& c, const std::string& body) {
+    auto r = c.Post("/v1/jobs", body, "application/json");
+    if (!r || r->status != 202) return "";
+    return json::parse(r->body)["id"];
+}
+
+std::string status_of(httplib::Client& c, const std::string& id) {
+    auto r = c.Get(("/v1/jobs/" + id).c_str());
+    if (!r) return "no answer";
+    if (r->status != 200) return "http-" + std::to_string(r->status);
+    return json::parse(r->body)["status"];
+}
+
+bool running(httplib::Client& c, const std::string& id) { return status_of(c, id) == "running"; }
+
+std::string mesh_of(httplib::Client& c, const std::string& id, const std::string& format) {
+    auto r = c.Get(("/v1/jobs/" + id + "/mesh?format=" + format).c_str());
+    return r && r->status == 200 ? r->body : "http-" + std::to_string(r ? r->status : -1);
+}
+
+std::string sync_mesh(httplib::Client& c, const std::string& body, const std::string& format) {
+    auto r = c.Post(("/v1/meshes?format=" + format).c_str(), body, "application/json");
+    return r && r->status == 200 ? r->body : "http-" + std::to_string(r ? r->status : -1);
+}
+
+}  // namespace
+
+// Submitted on A; status, the mesh in every format, and a cancel answered by B.
+TEST(Replicas, AnyReplicaAnswersForAnyJob) {
+    RedisProcess redis;
+    auto a = replica(redis), b = replica(redis);
+    auto ca = client(*a), cb = client(*b);
+    const std::string id = submit(ca, naca_request());
+    ASSERT_FALSE(id.empty());
+    const json done = wait_for_job(cb, id);
+    ASSERT_EQ(done["status"], "succeeded") << done.dump();
+    EXPECT_GT(done["metrics"]["triangles"].get<int>(), 1000);
+    // The same bytes as a synchronous request (JSON: but for the stages' timings).
+    auto untimed = [](const std::string& text) {
+        json j = json::parse(text);
+        j["metrics"].erase("timings_ms");
+        return j;
+    };
+    for (const char* f : {"json", "vtk", "su2", "msh", "svg", "foam"}) {
+        const std::string expected = sync_mesh(ca, naca_request(), f);
+        ASSERT_EQ(expected.substr(0, 5) == "http-", false) << f;
+        for (auto* c : {&ca, &cb}) {
+            const std::string got = mesh_of(*c, id, f);
+            if (std::string(f) == "json")
+                EXPECT_EQ(untimed(got), untimed(expected));
+            else
+                EXPECT_TRUE(got == expected) << f;
+        }
+    }
+    // A long job, cancelled through the replica that did not take it.
+    const std::string slow = submit(ca, slow_request(0.0008));
+    ASSERT_FALSE(slow.empty());
+    ASSERT_TRUE(eventually([&] { return running(cb, slow); }));
+    auto del = cb.Delete(("/v1/jobs/" + slow).c_str());
+    ASSERT_TRUE(del);
+    EXPECT_TRUE(del->status == 200 || del->status == 202) << del->status;
+    EXPECT_EQ(wait_for_job(ca, slow)["status"], "cancelled");
+    auto gone = ca.Get(("/v1/jobs/" + slow + "/mesh").c_str());
+    ASSERT_TRUE(gone);
+    EXPECT_EQ(gone->status, 410);
+    // Unknown everywhere.
+    EXPECT_EQ(status_of(cb, "00000000000000000000000000000000"), "http-404");
+}
+
+// kill -9 of the replica running a job: another replica takes it over once the lease lapses
+// and finishes it, with the very bytes a synchronous request gives.
+TEST(Replicas, AJobOfAKilledReplicaIsFinishedByAnother) {
+    RedisProcess redis;
+    const std::string body = slow_request(0.003);
+    auto a = replica(redis, {"--lease-s", "0.5", "--workers", "1"});
+    auto ca = client(*a);
+    const std::string id = submit(ca, body);
+    ASSERT_FALSE(id.empty());
+    ASSERT_TRUE(eventually([&] { return running(ca, id); }));  // A has it: B does not exist yet
+    auto b = replica(redis, {"--lease-s", "0.5", "--workers", "1"});
+    auto cb = client(*b);
+    const auto killed = std::chrono::steady_clock::now();
+    a->signal(SIGKILL);
+    ASSERT_NE(a->wait(std::chrono::seconds(20)), -1);
+    const json done = wait_for_job(cb, id, 120);
+    ASSERT_EQ(done["status"], "succeeded") << done.dump();
+    std::printf("recovered in %.2f s (lease 0.5 s plus the job)\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count());
+    EXPECT_EQ(mesh_of(cb, id, "su2"), sync_mesh(cb, body, "su2"));
+    auto page = cb.Get("/metrics");
+    ASSERT_TRUE(page);
+    EXPECT_NE(page->body.find("meshd_store_jobs_total{event=\"reclaimed\"} 1\n"), std::string::npos) << page->body;
+}
+
+// SIGTERM on a replica with a running job and jobs waiting: it stops taking jobs, hands the
+// running one back when its grace ends, exits 0; every job ends succeeded on the other.
+TEST(Replicas, ADrainingReplicaHandsItsJobsBack) {
+    RedisProcess redis;
+    auto a = replica(redis, {"--workers", "1", "--drain-s", "0.2"});
+    auto ca = client(*a);
+    std::vector<std::string> ids;
+    ids.push_back(submit(ca, slow_request(0.002)));
+    ASSERT_TRUE(eventually([&] { return running(ca, ids[0]); }));
+    for (int i = 0; i < 3; ++i) ids.push_back(submit(ca, naca_request()));
+    for (const auto& id : ids) ASSERT_FALSE(id.empty());
+    a->signal(SIGTERM);
+    EXPECT_EQ(a->wait(std::chrono::seconds(30)), 0);
+    EXPECT_NE(a->log().find("job " + ids[0] + " handed back"), std::string::npos) << a->log();
+    // Nothing ran them meanwhile: B comes after A is gone.
+    auto b = replica(redis, {"--workers", "1"});
+    auto cb = client(*b);
+    for (const auto& id : ids) EXPECT_EQ(wait_for_job(cb, id, 120)["status"], "succeeded") << id;
+}
+
+// Redis stopped in the middle of a run and started again from its append-only file: no
+// replica dies, readiness and new submissions say 503 meanwhile, then all is as before and
+// every job accepted before the stop ends succeeded.
+TEST(Replicas, TheStoreGoingAwayAndComingBackLosesNothing) {
+    RedisProcess redis(false, {"--appendonly", "yes", "--appendfsync", "always"});
+    auto a = replica(redis, {"--workers", "1"}), b = replica(redis, {"--workers", "1"});
+    auto ca = client(*a), cb = client(*b);
+    std::vector<std::string> ids;
+    ids.push_back(submit(ca, slow_request(0.002)));
+    ASSERT_TRUE(eventually([&] { return running(ca, ids[0]); }));
+    for (int i = 0; i < 4; ++i) ids.push_back(submit(i % 2 ? ca : cb, naca_request()));
+    for (const auto& id : ids) ASSERT_FALSE(id.empty());
+    redis.stop();
+    for (auto* c : {&ca, &cb}) {
+        auto ready = c->Get("/readyz");
+        ASSERT_TRUE(ready);
+        EXPECT_EQ(ready->status, 503);
+        auto refused = c->Post("/v1/jobs", naca_request(), "application/json");
+        ASSERT_TRUE(refused);
+        EXPECT_EQ(refused->status, 503);
+        EXPECT_FALSE(refused->get_header_value("Retry-After").empty());
+        EXPECT_EQ(json::parse(refused->body)["type"], "/v1/problems/store-unavailable");
+        auto status = c->Get(("/v1/jobs/" + ids[0]).c_str());
+        ASSERT_TRUE(status);
+        EXPECT_EQ(status->status, 503);
+        // Synchronous requests need no store.
+        auto sync = c->Post("/v1/meshes", naca_request(), "application/json");
+        ASSERT_TRUE(sync) << httplib::to_string(sync.error());
+        EXPECT_EQ(sync->status, 200);
+    }
+    redis.start();
+    for (auto* c : {&ca, &cb}) {
+        ASSERT_TRUE(eventually([&] {
+            auto ready = c->Get("/readyz");
+            return ready && ready->status == 200;
+        }));
+        ids.push_back(submit(*c, naca_request()));
+        ASSERT_FALSE(ids.back().empty());
+    }
+    for (const auto& id : ids) EXPECT_EQ(wait_for_job(cb, id, 120)["status"], "succeeded") << id;
+    for (auto* s : {a.get(), b.get()}) EXPECT_EQ(s->wait(std::chrono::milliseconds(1)), -1) << "a replica stopped";
+}
+
+// The queue bound is one for all replicas: past it, 429 from any of them.
+TEST(Replicas, TheQueueBoundIsGlobal) {
+    RedisProcess redis;
+    auto a = replica(redis, {"--workers", "1", "--queue", "2"}), b = replica(redis, {"--workers", "1", "--queue", "2"});
+    auto ca = client(*a), cb = client(*b);
+    // Both workers busy with long jobs, then two wait; the fifth is refused by either replica.
+    const std::string r1 = submit(ca, slow_request(0.0008)), r2 = submit(cb, slow_request(0.0008));
+    ASSERT_TRUE(eventually([&] { return running(ca, r1) && running(ca, r2); }));
+    const std::string w1 = submit(ca, naca_request()), w2 = submit(cb, naca_request());
+    ASSERT_FALSE(w1.empty());
+    ASSERT_FALSE(w2.empty());
+    for (auto* c : {&ca, &cb}) {
+        auto r = c->Post("/v1/jobs", naca_request(), "application/json");
+        ASSERT_TRUE(r);
+        EXPECT_EQ(r->status, 429);
+        EXPECT_EQ(r->get_header_value("Retry-After"), "1");
+    }
+    auto m = cb.Get("/metrics");
+    ASSERT_TRUE(m);
+    EXPECT_NE(m->body.find("\nmeshd_queue_depth 2\n"), std::string::npos);
+    for (const auto& id : {r1, r2, w1, w2}) cb.Delete(("/v1/jobs/" + id).c_str());
+    for (const auto& id : {r1, r2, w1, w2}) EXPECT_EQ(wait_for_job(ca, id)["status"], "cancelled");
+    EXPECT_FALSE(submit(cb, naca_request()).empty());
+}
+
+// 300 jobs over three replicas while replicas are killed (-9) and started again at random:
+// every accepted job ends once, succeeded or (when the test cancelled it) cancelled, and
+// each result is the mesh of its own request.
+TEST(Replicas, RandomKillsLoseNoJobAndMixNoResults) {
+    RedisProcess redis;
+    const std::vector<std::string> args{"--lease-s", "0.5", "--workers", "1", "--queue", "400"};
+    std::vector<std::unique_ptr<ServerProcess>> replicas;
+    for (int i = 0; i < 3; ++i) replicas.push_back(replica(redis, args));
+    // Ten requests with ten different meshes; each job is one of them.
+    std::vector<std::string> bodies, expected;
+    for (int k = 0; k < 10; ++k) {
+        bodies.push_back(slow_request(0.012 + 0.0005 * k));  // some 8,000 points: tens of milliseconds
+        auto c = client(*replicas[0]);
+        expected.push_back(sync_mesh(c, bodies.back(), "su2"));
+        ASSERT_EQ(expected.back().substr(0, 5) == "http-", false);
+    }
+    std::mt19937 rng(12345);
+    struct Submitted {
+        std::string id;
+        int request;
+        bool cancelled;
+    };
+    std::vector<Submitted> jobs;
+    int kills = 0;
+    while (jobs.size() < 300) {
+        const size_t r = rng() % replicas.size();
+        if (rng() % 25 == 0) {
+            // Kill one and start a new one in its place (a new port, a new consumer).
+            replicas[r]->signal(SIGKILL);
+            replicas[r]->wait(std::chrono::seconds(20));
+            replicas[r] = replica(redis, args);
+            ++kills;
+            continue;
+        }
+        auto c = client(*replicas[r]);
+        const int k = static_cast<int>(rng() % bodies.size());
+        const std::string id = submit(c, bodies[static_cast<size_t>(k)]);
+        if (id.empty()) continue;  // the replica was just killed: a client would retry
+        const bool cancel = rng() % 10 == 0;
+        if (cancel) c.Delete(("/v1/jobs/" + id).c_str());
+        jobs.push_back({id, k, cancel});
+    }
+    EXPECT_GE(kills, 5);
+    auto c = client(*replicas[0]);
+    std::map<std::string, std::string> final_status;
+    for (const auto& j : jobs) {
+        const json end = wait_for_job(c, j.id, 300);
+        const std::string st = end["status"];
+        final_status[j.id] = st;
+        if (j.cancelled) {
+            EXPECT_TRUE(st == "cancelled" || st == "succeeded") << j.id << " " << st;
+        } else {
+            EXPECT_EQ(st, "succeeded") << j.id;
+        }
+        if (st == "succeeded") {
+            EXPECT_EQ(mesh_of(c, j.id, "su2"), expected[static_cast<size_t>(j.request)]) << j.id;
+        }
+    }
+    // Ended once: the status seen from any replica later is the same.
+    for (const auto& j : jobs) EXPECT_EQ(status_of(c, j.id), final_status[j.id]) << j.id;
+    int reclaimed = 0;
+    for (auto& r : replicas) {
+        auto rc = client(*r);
+        auto m = rc.Get("/metrics");
+        const auto p = m ? m->body.find("meshd_store_jobs_total{event=\"reclaimed\"} ") : std::string::npos;
+        if (p != std::string::npos) reclaimed += std::atoi(m->body.c_str() + p + 42);
+    }
+    std::printf("%d kills; the replicas alive at the end took over %d jobs\n", kills, reclaimed);
+}
