@@ -85,6 +85,8 @@ const std::vector<Option>& options() {
          }},
         {"--lease-s", "MESHD_LEASE_S", "a running job's lease in a shared store: its replica silent this long, another runs it (default 10)",
          [](Config& c, const std::string& v) { c.lease_s = to_double("--lease-s", v, 0.05); }},
+        {"--api-keys", "MESHD_API_KEYS", "a JSON file of hashed API keys with their queue shares and rates; every /v1 request then needs one (default: none, open)",
+         [](Config& c, const std::string& v) { c.api_keys_file = v; }},
         {"--log-level", "MESHD_LOG_LEVEL", "trace, debug, info, warn, error, off (default info)",
          [](Config& c, const std::string& v) {
              static const std::map<std::string, int> ok{{"trace", 0}, {"debug", 0}, {"info", 0}, {"warn", 0}, {"error", 0}, {"off", 0}};
@@ -146,6 +148,7 @@ std::string help_text() {
     }
     s += "  --log-json            log as JSON lines [MESHD_LOG_JSON=1]\n"
          "  --openapi             print the OpenAPI 3.0.3 document (as GET /v1/openapi.json) and exit\n"
+         "  --hash-key            read an API key from standard input, print its sha256 for --api-keys, exit\n"
          "  --help                this text\n";
     return s;
 }

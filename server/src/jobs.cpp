@@ -160,6 +160,7 @@ bool JobManager::cancel_job(const std::string& id) {
         {
             std::lock_guard<std::mutex> lock(m_);
             finished_order_.push_back(job);
+            leave_owner_share_locked(*job);
         }
         job->done_cv.notify_all();
         metrics_.job_finished("cancelled", 0.0, 0, 0);
@@ -193,10 +194,49 @@ size_t JobManager::kept() {
     return jobs_.size();
 }
 
-Submission JobManager::submit(const std::string&, api::MeshRequest request, double parse_s, const std::string& owner) {
+Submission JobManager::submit(const std::string&, api::MeshRequest request, double parse_s, const std::string& owner,
+                              size_t owner_share) {
+    if (owner_share > 0) {
+        std::lock_guard<std::mutex> lock(m_);
+        auto it = owner_active_.find(owner);
+        if (it != owner_active_.end() && it->second >= owner_share) return {Submission::Refusal::OwnerShare, ""};
+    }
     auto job = submit(std::move(request), parse_s, owner);
     if (!job) return {draining_ ? Submission::Refusal::Draining : Submission::Refusal::QueueFull, ""};
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        bool ended;
+        {
+            std::lock_guard<std::mutex> jl(job->m);
+            ended = job->finished_locked();
+        }
+        if (!ended) {
+            ++owner_active_[owner];
+            job->in_owner_share = true;
+        }
+    }
     return {Submission::Refusal::None, job->id};
+}
+
+void JobManager::leave_owner_share_locked(Job& job) {
+    if (!job.in_owner_share) return;
+    job.in_owner_share = false;
+    auto it = owner_active_.find(job.owner);
+    if (it != owner_active_.end() && --it->second == 0) owner_active_.erase(it);
+}
+
+double JobManager::take_token(const std::string& owner, double rate, double burst) {
+    const auto now = std::chrono::steady_clock::now();
+    std::lock_guard<std::mutex> lock(buckets_m_);
+    auto [it, fresh] = buckets_.try_emplace(owner, Bucket{burst, now});
+    Bucket& b = it->second;
+    if (!fresh) b.tokens = std::min(burst, b.tokens + std::chrono::duration<double>(now - b.at).count() * rate);
+    b.at = now;
+    if (b.tokens >= 1) {
+        b.tokens -= 1;
+        return 0;
+    }
+    return (1 - b.tokens) / rate;
 }
 
 JobInfo JobManager::info_of(const Job& j) {
@@ -388,6 +428,7 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
         std::lock_guard<std::mutex> lock(m_);
         result_bytes_ += bytes;
         finished_order_.push_back(job);
+        leave_owner_share_locked(*job);
     }
     job->done_cv.notify_all();
 }

@@ -12,8 +12,11 @@
 #include <atomic>
 #include <cstdio>
 #include <cstring>
+#include <iostream>
+#include <memory>
 #include <thread>
 
+#include "meshd/server/access.hpp"
 #include "meshd/server/config.hpp"
 #include "meshd/server/service.hpp"
 #include "redis.hpp"
@@ -45,6 +48,16 @@ int main(int argc, char** argv) {
         std::puts(Service(Config{}).openapi().c_str());
         return 0;
     }
+    if (argc == 2 && std::strcmp(argv[1], "--hash-key") == 0) {
+        // The digest an --api-keys file holds for a key (the key itself is never stored).
+        std::string key;
+        if (!std::getline(std::cin, key) || key.empty()) {
+            std::fprintf(stderr, "meshd --hash-key: give the key on standard input\n");
+            return 2;
+        }
+        std::puts(sha256_hex(key).c_str());
+        return 0;
+    }
     try {
         bool help = false;
         config = parse_config(std::vector<std::string>(argv + 1, argv + argc), help);
@@ -74,7 +87,14 @@ int main(int argc, char** argv) {
     sigaction(SIGINT, &sa, nullptr);
     signal(SIGPIPE, SIG_IGN);
 
-    Service service(config);
+    std::unique_ptr<Service> owned;
+    try {
+        owned = std::make_unique<Service>(config);
+    } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return 2;
+    }
+    Service& service = *owned;
     const int port = service.bind();
     if (port < 0) {
         spdlog::error("cannot bind {}:{}", config.host, config.port);

@@ -58,9 +58,30 @@ end
 -- A job has just ended.
 local function ended(id, now, ttl, max)
   redis.call('DECR', P .. 'active')
+  local owner = redis.call('HGET', P .. 'job:' .. id, 'owner')
+  if owner and owner ~= '' then
+    if redis.call('HINCRBY', P .. 'owners', owner, -1) <= 0 then redis.call('HDEL', P .. 'owners', owner) end
+  end
   redis.call('ZADD', P .. 'finished', now, id)
   trim(now, ttl, max)
 end
+)lua";
+
+// A token bucket (KEYS[1]: the owner's). ARGV: prefix, rate per s, burst.
+// -> 0 go on | the milliseconds until a token is there
+const std::string kToken = R"lua(
+local t = redis.call('TIME')
+local now = tonumber(t[1]) * 1000 + tonumber(t[2]) / 1000
+local rate, burst = tonumber(ARGV[2]), tonumber(ARGV[3])
+local b = redis.call('HMGET', KEYS[1], 'tokens', 'at')
+local tokens = tonumber(b[1]) or burst
+local at = tonumber(b[2]) or now
+tokens = math.min(burst, tokens + math.max(0, now - at) * rate / 1000)
+local wait = 0
+if tokens >= 1 then tokens = tokens - 1 else wait = math.ceil((1 - tokens) * 1000 / rate) end
+redis.call('HSET', KEYS[1], 'tokens', tostring(tokens), 'at', tostring(now))
+redis.call('PEXPIRE', KEYS[1], math.ceil(burst * 1000 / rate) + 1000)
+return wait
 )lua";
 
 // ARGV: prefix, now, ttl ms, max finished. -> the job records kept
@@ -69,10 +90,16 @@ trim(tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4]))
 return redis.call('ZCARD', P .. 'finished') + math.max(0, tonumber(redis.call('GET', P .. 'active') or '0'))
 )lua";
 
-// ARGV: prefix, id, bound, now, body, foam, owner. -> 1 queued | 0 queue full | -1 id taken
+// ARGV: prefix, id, bound, now, body, foam, owner, owner's share.
+// -> 1 queued | 0 queue full | -1 id taken | -2 the owner's share is taken
 const std::string kSubmit = kLib + R"lua(
 if redis.call('EXISTS', KEYS[1]) == 1 then return -1 end
 if tonumber(redis.call('GET', P .. 'queued') or '0') >= tonumber(ARGV[3]) then return 0 end
+local share = tonumber(ARGV[8])
+if ARGV[7] ~= '' then
+  if share > 0 and tonumber(redis.call('HGET', P .. 'owners', ARGV[7]) or '0') >= share then return -2 end
+  redis.call('HINCRBY', P .. 'owners', ARGV[7], 1)
+end
 local entry = redis.call('XADD', P .. 'queue', '*', 'id', ARGV[2])
 redis.call('HSET', KEYS[1], 'status', 'queued', 'stage', 'queued', 'progress', '0', 'submitted', ARGV[4],
   'request', ARGV[5], 'foam', ARGV[6], 'owner', ARGV[7], 'entry', entry, 'runs', '0')
@@ -275,7 +302,12 @@ std::string RedisStore::key(const std::string& kind, const std::string& id) cons
 
 redis::Reply RedisStore::eval(redis::Connection& c, const std::string& script, const std::string& id,
                               const std::vector<std::string>& args) {
-    std::vector<std::string> argv{"EVAL", script, "1", key("job", id), kPrefix};
+    return eval_on(c, script, key("job", id), args);
+}
+
+redis::Reply RedisStore::eval_on(redis::Connection& c, const std::string& script, const std::string& first_key,
+                                 const std::vector<std::string>& args) {
+    std::vector<std::string> argv{"EVAL", script, "1", first_key, kPrefix};
     argv.insert(argv.end(), args.begin(), args.end());
     redis::Reply r = c.command(argv);
     // A script error is a bug or a store older than Redis 7: no retry helps.
@@ -344,15 +376,18 @@ void RedisStore::pause(std::chrono::milliseconds d) {
 
 // ---- submitting and reading (HTTP threads) ----
 
-Submission RedisStore::submit(const std::string& body, api::MeshRequest request, double, const std::string& owner) {
+Submission RedisStore::submit(const std::string& body, api::MeshRequest request, double, const std::string& owner,
+                              size_t owner_share) {
     if (!claiming_) return {Submission::Refusal::Draining, ""};
     const std::string foam = foam_json(request.foam);
     return with_store("submit", [&](redis::Connection& c) {
         for (;;) {
             const std::string id = JobManager::new_id();
             const redis::Reply r =
-                eval(c, kSubmit, id, {id, std::to_string(config_.queue_length), std::to_string(now_ms()), body, foam, owner});
+                eval(c, kSubmit, id, {id, std::to_string(config_.queue_length), std::to_string(now_ms()), body, foam, owner,
+                                      std::to_string(owner_share)});
             if (r.integer == -1) continue;  // an id already taken (2^-128): draw again
+            if (r.integer == -2) return Submission{Submission::Refusal::OwnerShare, ""};
             if (r.integer == 0) return Submission{Submission::Refusal::QueueFull, ""};
             return Submission{Submission::Refusal::None, id};
         }
@@ -435,6 +470,13 @@ std::optional<JobInfo> RedisStore::cancel(const std::string& id) {
     return info(id);
 }
 
+double RedisStore::take_token(const std::string& owner, double rate, double burst) {
+    const redis::Reply r = with_store("rate", [&](redis::Connection& c) {
+        return eval_on(c, kToken, key("rate", owner), {std::to_string(rate), std::to_string(burst)});
+    });
+    return static_cast<double>(r.integer) / 1000.0;
+}
+
 bool RedisStore::reachable() {
     auto c = pool_->take();
     const bool ok = c->ping();
@@ -457,7 +499,7 @@ size_t RedisStore::queued() {
 size_t RedisStore::kept() {
     return with_store("kept", [&](redis::Connection& c) {
         // KEYS[1] is only there for the Cluster's routing: any key of the tag will do.
-        const redis::Reply r = eval(c, kKept, "kept", {std::to_string(now_ms()), ttl_ms(), std::to_string(config_.max_finished_jobs)});
+        const redis::Reply r = eval_on(c, kKept, key("finished"), {std::to_string(now_ms()), ttl_ms(), std::to_string(config_.max_finished_jobs)});
         return static_cast<size_t>(std::max(0LL, r.integer));
     });
 }

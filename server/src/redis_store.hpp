@@ -13,6 +13,9 @@
 //                         "0".."n-1", and "n" written last
 //   {meshd}:results       sorted set of kept results by finish time; with
 //   {meshd}:result_sizes  (id -> bytes) and {meshd}:result_bytes, the result budget
+//   {meshd}:finished      sorted set of finished jobs by finish time (their bound and age)
+//   {meshd}:active        jobs queued or running; {meshd}:owners the same by API key
+//   {meshd}:rate:<key>    an API key's token bucket
 //
 // Every change of a job's status is one Lua script, so that the status moves once from
 // queued to running to a final one, whichever replicas race. A running job holds a lease:
@@ -57,7 +60,8 @@ public:
     void stop();
 
     Submission submit(const std::string& body, api::MeshRequest request, double parse_s,
-                      const std::string& owner) override;
+                      const std::string& owner, size_t owner_share) override;
+    double take_token(const std::string& owner, double rate, double burst) override;
     std::optional<JobInfo> info(const std::string& id) override;
     std::optional<JobMesh> mesh(const std::string& id) override;
     std::optional<JobInfo> cancel(const std::string& id) override;
@@ -110,6 +114,9 @@ private:
     /// Runs one of the scripts on job `id` (KEYS[1] its key, ARGV[1] the key prefix, then `args`).
     redis::Reply eval(redis::Connection& c, const std::string& script, const std::string& id,
                       const std::vector<std::string>& args);
+    /// The same with another first key (a script about no one job).
+    redis::Reply eval_on(redis::Connection& c, const std::string& script, const std::string& first_key,
+                         const std::vector<std::string>& args);
     std::string ttl_ms() const;
     std::string key(const std::string& kind, const std::string& id = {}) const;
     /// Sleeps up to `d` unless the store stops meanwhile.

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cctype>
+#include <cmath>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -14,6 +15,7 @@
 #include "meshd/api/problem.hpp"
 #include "meshd/api/request.hpp"
 #include "meshd/api/writers.hpp"
+#include "meshd/server/access.hpp"
 #include "peer.hpp"
 #include "redis_store.hpp"
 
@@ -25,6 +27,10 @@ using json = nlohmann::ordered_json;
 constexpr const char* kProblemType = "application/problem+json";
 
 thread_local std::chrono::steady_clock::time_point request_start;
+/// The API key of the request this thread answers (null on an open server).
+thread_local const ApiKey* request_key = nullptr;
+
+std::string request_owner() { return request_key ? request_key->id : std::string(); }
 
 void send_problem(httplib::Response& res, const api::Problem& p) {
     res.status = p.status;
@@ -203,6 +209,7 @@ void store_unavailable(httplib::Response& res, const StoreUnavailable& e) {
 }  // namespace
 
 Service::Service(Config config) : config_(std::move(config)) {
+    if (!config_.api_keys_file.empty()) access_ = Access::load(config_.api_keys_file);
     jobs_ = std::make_unique<JobManager>(config_, metrics_);
     store_ = jobs_.get();
     if (config_.store != "memory") {
@@ -321,8 +328,39 @@ void Service::install() {
 
     auto add = [&](const char* method, const char* path) { routes_.push_back({method, path}); };
 
-    s.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
+    s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
         request_start = std::chrono::steady_clock::now();
+        request_key = nullptr;
+        if (access_.open() || req.path.rfind("/v1/", 0) != 0) return httplib::Server::HandlerResponse::Unhandled;
+        // API keys: every /v1 request names one (the probes and / stay open).
+        const std::string auth = req.get_header_value("Authorization");
+        const bool bearer = auth.size() > 7 && (auth.compare(0, 7, "Bearer ") == 0 || auth.compare(0, 7, "bearer ") == 0);
+        if (!bearer) {
+            res.set_header("WWW-Authenticate", "Bearer realm=\"meshd\"");
+            send_problem(res, problem(401, "unauthorized", "Unauthorized",
+                                      "send an API key as \"Authorization: Bearer <key>\""));
+            return httplib::Server::HandlerResponse::Handled;
+        }
+        request_key = access_.find(auth.substr(7));
+        if (!request_key) {
+            send_problem(res, problem(403, "forbidden", "Forbidden", "the API key is not one of this service's"));
+            return httplib::Server::HandlerResponse::Handled;
+        }
+        if (request_key->rate_per_s > 0) {
+            double wait = 0;
+            try {
+                wait = store_->take_token(request_key->id, request_key->rate_per_s, request_key->burst);
+            } catch (const StoreUnavailable&) {
+                wait = 0;  // the rate is not enforced while the store is away; the job routes say 503
+            }
+            if (wait > 0) {
+                res.set_header("Retry-After", std::to_string(static_cast<long>(std::ceil(wait))));
+                send_problem(res, problem(429, "rate-limited", "Too many requests",
+                                          "this API key's request rate (" + std::to_string(request_key->rate_per_s) +
+                                              " per second) is used up; retry later"));
+                return httplib::Server::HandlerResponse::Handled;
+            }
+        }
         return httplib::Server::HandlerResponse::Unhandled;
     });
     s.set_logger([this](const httplib::Request& req, const httplib::Response& res) {
@@ -437,9 +475,16 @@ void Service::install() {
         if (draining_) return refuse_busy(res);
         Submission sub;
         try {
-            sub = store_->submit(parsed->body, std::move(parsed->request), parsed->seconds, "");
+            sub = store_->submit(parsed->body, std::move(parsed->request), parsed->seconds, request_owner(),
+                                 request_key ? request_key->queue_share : 0);
         } catch (const StoreUnavailable& e) {
             return store_unavailable(res, e);
+        }
+        if (sub.refusal == Submission::Refusal::OwnerShare) {
+            res.set_header("Retry-After", "1");
+            return send_problem(res, problem(429, "key-queue-share", "Too many jobs for this key",
+                                             "this API key has " + std::to_string(request_key->queue_share) +
+                                                 " jobs queued or running, its share of the queue; retry later"));
         }
         if (sub.refusal != Submission::Refusal::None) return refuse_busy(res);
         res.status = 202;
@@ -459,7 +504,8 @@ void Service::install() {
         } catch (const StoreUnavailable& e) {
             return store_unavailable(res, e);
         }
-        if (!job) return unknown_job(res, req.matches[1]);
+        // Another key's job is no job for this one (not even its existence is told).
+        if (!job || job->owner != request_owner()) return unknown_job(res, req.matches[1]);
         if (!is_final(job->status)) res.set_header("Retry-After", "1");
         res.set_content(job_json(*job).dump(), "application/json");
     });
@@ -474,7 +520,7 @@ void Service::install() {
         } catch (const StoreUnavailable& e) {
             return store_unavailable(res, e);
         }
-        if (!job) return unknown_job(res, req.matches[1]);
+        if (!job || job->info.owner != request_owner()) return unknown_job(res, req.matches[1]);
         switch (job->info.status) {
             case JobStatus::Queued:
             case JobStatus::Running:
@@ -497,11 +543,12 @@ void Service::install() {
     s.Delete(R"(/v1/jobs/([0-9a-f]+))", [this, unknown_job](const httplib::Request& req, httplib::Response& res) {
         std::optional<JobInfo> job;
         try {
-            job = store_->cancel(req.matches[1]);
+            job = store_->info(req.matches[1]);
+            if (job && job->owner == request_owner()) job = store_->cancel(req.matches[1]);
         } catch (const StoreUnavailable& e) {
             return store_unavailable(res, e);
         }
-        if (!job) return unknown_job(res, req.matches[1]);
+        if (!job || job->owner != request_owner()) return unknown_job(res, req.matches[1]);
         res.status = job->status == JobStatus::Running ? 202 : 200;
         res.set_content(job_json(*job).dump(), "application/json");
     });

@@ -670,3 +670,123 @@ TEST_P(Http, AnAsyncJobKeepsItsFoamOptions) {
     ASSERT_TRUE(sync);
     EXPECT_EQ(sync->body, tar->body);
 }
+
+namespace {
+
+// The SHA-256 of `text` by coreutils' sha256sum (an oracle independent of meshd).
+std::string sha256sum(const std::string& text) {
+    const std::string cmd = "printf %s '" + text + "' | sha256sum";
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[128] = {0};
+    const size_t n = p ? fread(buf, 1, 64, p) : 0;
+    if (p) pclose(p);
+    return std::string(buf, n);
+}
+
+// A keys file for --api-keys: "alice" and "bob" unlimited; "flood" with a share of the queue
+// of 2 jobs and 2 requests a second (bursts of 4).
+std::string keys_file() {
+    const std::string path = ::testing::TempDir() + "/meshd_keys_" + std::to_string(getpid()) + ".json";
+    json doc;
+    doc["keys"] = json::array({{{"id", "alice"}, {"sha256", sha256sum("alice-secret-1")}},
+                               {{"id", "bob"}, {"sha256", sha256sum("bob-secret-2")}},
+                               {{"id", "flood"}, {"sha256", sha256sum("flood-secret-3")}, {"queue_share", 2},
+                                {"rate_per_s", 2}, {"burst", 4}}});
+    std::ofstream(path) << doc.dump(2);
+    return path;
+}
+
+httplib::Headers bearer(const std::string& key) { return {{"Authorization", "Bearer " + key}}; }
+
+}  // namespace
+
+TEST(Access, HashKeyPrintsTheDigestSha256SumGives) {
+    const std::string cmd = std::string("printf 'a key\\n' | ") + MESHD_SERVER_BINARY + " --hash-key";
+    FILE* p = popen(cmd.c_str(), "r");
+    ASSERT_NE(p, nullptr);
+    char buf[128] = {0};
+    const size_t n = fread(buf, 1, 64, p);
+    pclose(p);
+    EXPECT_EQ(std::string(buf, n), sha256sum("a key"));
+}
+
+// No key: 401; a key not in the file: 403; the probes stay open; a job is seen and cancelled
+// only with the key that made it (another key gets 404, as for a job that does not exist).
+TEST_P(Http, ApiKeysGuardV1AndKeepEachJobToItsKey) {
+    auto server = serve({"--api-keys", keys_file()});
+    auto c = client(*server);
+    auto none = c.Post("/v1/meshes", naca_request(), "application/json");
+    ASSERT_TRUE(none);
+    EXPECT_EQ(none->status, 401);
+    EXPECT_EQ(none->get_header_value("Content-Type"), "application/problem+json");
+    EXPECT_FALSE(none->get_header_value("WWW-Authenticate").empty());
+    auto wrong = c.Post("/v1/meshes", bearer("alice-secret-2"), naca_request(), "application/json");
+    ASSERT_TRUE(wrong);
+    EXPECT_EQ(wrong->status, 403);
+    EXPECT_EQ(c.Get("/v1/openapi.json")->status, 401);
+    for (const char* open : {"/healthz", "/livez", "/readyz", "/metrics"}) EXPECT_EQ(c.Get(open)->status, 200) << open;
+    EXPECT_EQ(c.Post("/v1/meshes", bearer("alice-secret-1"), naca_request(), "application/json")->status, 200);
+
+    auto made = c.Post("/v1/jobs", bearer("alice-secret-1"), slow_request(0.0008), "application/json");
+    ASSERT_TRUE(made);
+    ASSERT_EQ(made->status, 202);
+    const std::string id = json::parse(made->body)["id"];
+    const std::string path = "/v1/jobs/" + id;
+    EXPECT_EQ(c.Get(path.c_str(), bearer("alice-secret-1"))->status, 200);
+    EXPECT_EQ(c.Get(path.c_str(), bearer("bob-secret-2"))->status, 404);
+    EXPECT_EQ(c.Get((path + "/mesh").c_str(), bearer("bob-secret-2"))->status, 404);
+    EXPECT_EQ(c.Delete(path.c_str(), bearer("bob-secret-2"))->status, 404);
+    EXPECT_EQ(c.Get(path.c_str())->status, 401);
+    // Bob's DELETE did not stop it; Alice's does.
+    const std::string still = json::parse(c.Get(path.c_str(), bearer("alice-secret-1"))->body)["status"];
+    EXPECT_TRUE(still == "queued" || still == "running") << still;
+    auto del = c.Delete(path.c_str(), bearer("alice-secret-1"));
+    ASSERT_TRUE(del);
+    EXPECT_TRUE(del->status == 200 || del->status == 202);
+    ASSERT_TRUE(eventually([&] {
+        auto st = c.Get(path.c_str(), bearer("alice-secret-1"));
+        return st && json::parse(st->body)["status"] == "cancelled";
+    }));
+}
+
+// A key flooding the service meets its own limits (its share of the queue, its request
+// rate: 429 with Retry-After for it alone) while another key's jobs are taken and run.
+TEST_P(Http, OneKeyFloodingLeavesTheOthersServed) {
+    auto server = serve({"--api-keys", keys_file(), "--workers", "1", "--queue", "8"});
+    auto c = client(*server);
+    const auto flood = bearer("flood-secret-3"), alice = bearer("alice-secret-1");
+    std::vector<std::string> flood_jobs;
+    int share_refusals = 0, rate_refusals = 0;
+    for (int i = 0; i < 12; ++i) {
+        auto r = c.Post("/v1/jobs", flood, slow_request(0.0008), "application/json");
+        ASSERT_TRUE(r);
+        if (r->status == 202) {
+            flood_jobs.push_back(json::parse(r->body)["id"]);
+            continue;
+        }
+        ASSERT_EQ(r->status, 429) << r->body;
+        EXPECT_FALSE(r->get_header_value("Retry-After").empty());
+        const std::string type = json::parse(r->body)["type"];
+        share_refusals += type == "/v1/problems/key-queue-share";
+        rate_refusals += type == "/v1/problems/rate-limited";
+    }
+    EXPECT_EQ(flood_jobs.size(), 2u);  // its share
+    EXPECT_GE(share_refusals, 1);
+    // 12 requests in far less than the 4 seconds its bucket needs to give 12 tokens.
+    EXPECT_GE(rate_refusals, 1);
+    // Alice is served meanwhile: her job is queued past the flood's and runs.
+    auto mine = c.Post("/v1/jobs", alice, naca_request(), "application/json");
+    ASSERT_TRUE(mine);
+    ASSERT_EQ(mine->status, 202) << mine->body;
+    const std::string id = json::parse(mine->body)["id"];
+    // The flood's own cancels are requests too: each goes through once its bucket refills.
+    for (const auto& f : flood_jobs)
+        ASSERT_TRUE(eventually([&] {
+            auto d = c.Delete(("/v1/jobs/" + f).c_str(), flood);
+            return d && d->status != 429;
+        }));
+    ASSERT_TRUE(eventually([&] {
+        auto st = c.Get(("/v1/jobs/" + id).c_str(), alice);
+        return st && st->status == 200 && json::parse(st->body)["status"] == "succeeded";
+    }));
+}

@@ -35,6 +35,8 @@ struct Config {
     /// --lease-s, MESHD_LEASE_S: a running job's lease in a shared store; a job whose
     /// replica stops renewing it for this long is run again by another replica.
     double lease_s = 10;
+    /// --api-keys, MESHD_API_KEYS: a file of hashed API keys (access.hpp); none: open.
+    std::string api_keys_file;
     std::string log_level = "info";       ///< --log-level, MESHD_LOG_LEVEL
     bool log_json = false;                ///< --log-json, MESHD_LOG_JSON=1
 };

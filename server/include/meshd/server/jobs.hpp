@@ -56,6 +56,8 @@ struct Job {
     api::FoamOptions foam;
     /// The API key's id that made it (empty on an open server).
     std::string owner;
+    /// Counted in its owner's share of the queue until it ends (under the manager's m_).
+    bool in_owner_share = false;
     std::chrono::system_clock::time_point submitted, started, finished;
     /// For a job of a shared store (run_external): called by the worker once the job has
     /// ended, instead of keeping it in the manager's records. Returns the outcome to count
@@ -99,7 +101,8 @@ public:
 
     // JobStore: the jobs in this process's memory.
     Submission submit(const std::string& body, api::MeshRequest request, double parse_s,
-                      const std::string& owner) override;
+                      const std::string& owner, size_t owner_share) override;
+    double take_token(const std::string& owner, double rate, double burst) override;
     std::optional<JobInfo> info(const std::string& id) override;
     std::optional<JobMesh> mesh(const std::string& id) override;
     std::optional<JobInfo> cancel(const std::string& id) override;
@@ -155,6 +158,15 @@ private:
     std::condition_variable idle_cv_;
     std::deque<std::shared_ptr<Job>> queue_;
     std::set<std::shared_ptr<Job>> running_;
+    std::map<std::string, size_t> owner_active_;  ///< jobs queued or running, by owner
+    /// With m_ held: the job no longer counts in its owner's share.
+    void leave_owner_share_locked(Job& job);
+    struct Bucket {
+        double tokens = 0;
+        std::chrono::steady_clock::time_point at;
+    };
+    std::mutex buckets_m_;
+    std::map<std::string, Bucket> buckets_;
     std::map<std::string, std::shared_ptr<Job>> jobs_;
     std::deque<std::shared_ptr<Job>> finished_order_;  // for eviction, oldest first
     size_t result_bytes_ = 0;

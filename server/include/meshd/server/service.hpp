@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "meshd/server/access.hpp"
 #include "meshd/server/config.hpp"
 #include "meshd/server/jobs.hpp"
 #include "meshd/server/metrics.hpp"
@@ -53,6 +54,7 @@ private:
     void install_probes(httplib::Server& s, bool document);
 
     Config config_;
+    Access access_;
     Metrics metrics_;
     /// Jobs run here (sync requests, and the async ones of the store); the store of async
     /// jobs is either jobs_ itself or redis_ (--store).

@@ -50,7 +50,7 @@ struct JobMesh {
 
 /// A request the store has accepted, or why not.
 struct Submission {
-    enum class Refusal { None, QueueFull, Draining };
+    enum class Refusal { None, QueueFull, Draining, OwnerShare };
     Refusal refusal = Refusal::None;
     std::string id;
 };
@@ -66,9 +66,11 @@ public:
     virtual ~JobStore() = default;
 
     /// Queues a parsed request. `body` is its JSON text (a shared store keeps it for the
-    /// replica that will run it); `parse_s` the time reading and parsing took.
+    /// replica that will run it); `parse_s` the time reading and parsing took. `owner`: the
+    /// API key's id; with `owner_share` > 0, refused (OwnerShare) while that many of the
+    /// owner's jobs are queued or running.
     virtual Submission submit(const std::string& body, api::MeshRequest request, double parse_s,
-                              const std::string& owner) = 0;
+                              const std::string& owner, size_t owner_share) = 0;
     /// The job, or nothing when unknown or forgotten.
     virtual std::optional<JobInfo> info(const std::string& id) = 0;
     /// The job with its result, or nothing when unknown.
@@ -76,6 +78,9 @@ public:
     /// Asks the job to stop (a running job stops within a second, wherever it runs); the job
     /// as it is afterwards, or nothing when unknown.
     virtual std::optional<JobInfo> cancel(const std::string& id) = 0;
+    /// A token bucket per owner (`rate` per second, `burst` at most), shared by the replicas
+    /// of a shared store: 0 when the request may go on, else the seconds until it may.
+    virtual double take_token(const std::string& owner, double rate, double burst) = 0;
     /// Whether this store can take work now (always, in memory).
     virtual bool reachable() = 0;
     /// Jobs waiting for a worker (across replicas for a shared store).
