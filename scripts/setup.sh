@@ -6,8 +6,9 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkgconf curl jq
   nlohmann-json3-dev libspdlog-dev libcpp-httplib-dev
-  # the shared job store: the C client, and the server the tests start
-  libhiredis-dev redis-server
+  # the shared job store: the C client, and the server the tests start; SHA-256 of API keys;
+  # the load balancer in front of replicas (docker/haproxy.cfg, tested for real)
+  libhiredis-dev redis-server libssl-dev haproxy
   libgtest-dev libgmock-dev libbenchmark-dev
   # the readers the tests read our files back with
   python3 python3-numpy python3-meshio python3-vtk9 gmsh python3-gmsh python3-dolfinx

@@ -181,8 +181,9 @@ if f[1] == 'queued' then
   redis.call('DECR', P .. 'queued')
   redis.call('HSET', KEYS[1], 'status', 'cancelled', 'stage', 'cancelled', 'finished', ARGV[2], 'cancel', '1')
   redis.call('HDEL', KEYS[1], 'request')
-  redis.call('XACK', P .. 'queue', 'workers', f[2])
-  redis.call('XDEL', P .. 'queue', f[2])
+  -- Its entry stays until a replica reads it (and drops it, the job having ended): an entry
+  -- deleted before the group has read it would make the group's lag unknown (XINFO GROUPS),
+  -- which the autoscaler reads.
   redis.call('PEXPIRE', KEYS[1], ARGV[3])
   ended(string.sub(KEYS[1], #P + 5), tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4]))
 elseif f[1] == 'running' then
@@ -509,6 +510,7 @@ size_t RedisStore::kept() {
 void RedisStore::claim_loop() {
     redis::Connection c(endpoint_, std::chrono::milliseconds(std::max<long long>(2000, std::llround(config_.lease_s * 1000))));
     auto backoff = std::chrono::milliseconds(100);
+    auto next_sweep = Clock::now();
     while (claiming_ && !stopping_) {
         // Claim only for a worker that is free now: what waits stays in the shared queue,
         // where any replica can take it.
@@ -516,6 +518,10 @@ void RedisStore::claim_loop() {
         if (!claiming_ || stopping_ || runner_.idle_workers() == 0) continue;
         try {
             ensure_group(c);
+            if (Clock::now() >= next_sweep) {
+                forget_dead_consumers(c);
+                next_sweep = Clock::now() + std::chrono::minutes(1);
+            }
             claim_one(c);
             backoff = std::chrono::milliseconds(100);
             metrics_.set_store_up(true);
@@ -537,6 +543,29 @@ void RedisStore::claim_loop() {
             }
             pause(std::chrono::milliseconds(1000));
         }
+    }
+}
+
+void RedisStore::forget_dead_consumers(redis::Connection& c) {
+    // Every replica that ever ran left a consumer in the group; those holding nothing and
+    // silent for long are dropped (a live one that was only quiet is made again by its next
+    // read, with nothing lost: it held nothing).
+    const long long quiet_ms = std::max<long long>(600'000, std::llround(config_.lease_s * 10'000));
+    const redis::Reply r = c.command({"XINFO", "CONSUMERS", key("queue"), kGroup});
+    if (r.kind != redis::Reply::Kind::Array) return;
+    for (const redis::Reply& consumer : r.elements) {
+        std::string name;
+        long long pending = -1, idle = 0;
+        for (size_t i = 0; i + 1 < consumer.elements.size(); i += 2) {
+            const std::string& field = consumer.elements[i].str;
+            const redis::Reply& v = consumer.elements[i + 1];
+            if (field == "name") name = v.str;
+            else if (field == "pending") pending = v.integer;
+            else if (field == "idle") idle = v.integer;
+        }
+        if (name.empty() || name == consumer_ || pending != 0 || idle < quiet_ms) continue;
+        c.command({"XGROUP", "DELCONSUMER", key("queue"), kGroup, name});
+        spdlog::info("job store: dropped the consumer {} (nothing pending, silent {} s)", name, idle / 1000);
     }
 }
 

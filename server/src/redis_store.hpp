@@ -99,6 +99,7 @@ private:
     void writer_loop();
     /// One claim (a lapsed lease first, then a new entry); false when none was found.
     bool claim_one(redis::Connection& c);
+    void forget_dead_consumers(redis::Connection& c);
     void start_entry(redis::Connection& c, const std::string& entry, const std::string& id, bool reclaimed);
     /// The worker's end of a claimed job: queues its outcome for the writer thread, or hands
     /// it back; returns the outcome for the metrics.

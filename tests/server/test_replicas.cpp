@@ -1,9 +1,14 @@
 // Several meshd replicas sharing one job store: a real redis-server and real meshd processes
 // on loopback ports, killed and restarted as an orchestrator would.
 
+#include <arpa/inet.h>
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 
+#include <fstream>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -280,4 +285,101 @@ TEST(Replicas, RandomKillsLoseNoJobAndMixNoResults) {
         if (p != std::string::npos) reclaimed += std::atoi(m->body.c_str() + p + 42);
     }
     std::printf("%d kills; the replicas alive at the end took over %d jobs\n", kills, reclaimed);
+}
+
+namespace {
+
+int free_loopback_port() {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+    socklen_t len = sizeof a;
+    getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+    close(fd);
+    return ntohs(a.sin_port);
+}
+
+// Debian's haproxy with docker/haproxy.cfg, its servers pointed at the given replicas.
+class HAProxy {
+public:
+    HAProxy(const std::vector<std::unique_ptr<ServerProcess>>& replicas) {
+        std::string cfg = meshd::test::read_file(MESHD_SOURCE_DIR "/docker/haproxy.cfg");
+        port_ = free_loopback_port();
+        auto replace = [&](const std::string& from, const std::string& to) {
+            const auto p = cfg.find(from);
+            if (p == std::string::npos) throw std::runtime_error("docker/haproxy.cfg has no \"" + from + "\"");
+            cfg.replace(p, from.size(), to);
+        };
+        replace("bind :8080", "bind 127.0.0.1:" + std::to_string(port_));
+        for (size_t i = 0; i < replicas.size(); ++i) {
+            const std::string n = std::to_string(i + 1);
+            replace("server meshd-" + n + " meshd-" + n + ":8080", "server meshd-" + n + " 127.0.0.1:" +
+                    std::to_string(replicas[i]->port()) + " port " + std::to_string(replicas[i]->probe_port()));
+        }
+        path_ = ::testing::TempDir() + "/meshd_haproxy_" + std::to_string(getpid()) + ".cfg";
+        std::ofstream(path_) << cfg;
+        pid_ = fork();
+        if (pid_ == 0) {
+            const int devnull = open("/dev/null", O_WRONLY);
+            dup2(devnull, 1);
+            execlp("haproxy", "haproxy", "-db", "-f", path_.c_str(), static_cast<char*>(nullptr));
+            _exit(127);
+        }
+    }
+    ~HAProxy() {
+        kill(pid_, SIGKILL);
+        waitpid(pid_, nullptr, 0);
+    }
+    int port() const { return port_; }
+
+private:
+    std::string path_;
+    int port_ = 0;
+    pid_t pid_ = -1;
+};
+
+}  // namespace
+
+// docker/haproxy.cfg for real in front of three replicas (as compose.yaml runs them): jobs
+// submitted and followed through the one address all succeed, polls landing on any replica;
+// a replica that drains leaves the balancer (its /readyz on the probe port) and the
+// service goes on.
+TEST(Replicas, BehindTheLoadBalancerOfComposeYaml) {
+    RedisProcess redis;
+    std::vector<std::unique_ptr<ServerProcess>> replicas;
+    for (int i = 0; i < 3; ++i) replicas.push_back(replica(redis, {"--probe-port", "0", "--workers", "1", "--drain-s", "0.1"}));
+    HAProxy lb(replicas);
+    httplib::Client c("127.0.0.1", lb.port());
+    c.set_read_timeout(60, 0);
+    // Until haproxy's first health checks pass.
+    ASSERT_TRUE(eventually([&] {
+        auto r = c.Get("/readyz");
+        return r && r->status == 200;
+    }, 60));
+    std::vector<std::string> ids;
+    auto submit_through_lb = [&] {
+        // A client retries a 503 (a replica leaving, not yet out of the balancer).
+        std::string id;
+        EXPECT_TRUE(eventually([&] {
+            id = submit(c, naca_request());
+            return !id.empty();
+        }, 60));
+        ids.push_back(id);
+    };
+    for (int i = 0; i < 10; ++i) submit_through_lb();
+    replicas[0]->signal(SIGTERM);
+    EXPECT_EQ(replicas[0]->wait(std::chrono::seconds(30)), 0);
+    for (int i = 0; i < 10; ++i) submit_through_lb();
+    for (const auto& id : ids) {
+        json end;
+        ASSERT_TRUE(eventually([&] {
+            auto r = c.Get(("/v1/jobs/" + id).c_str());
+            if (!r || r->status != 200) return false;
+            end = json::parse(r->body);
+            return end["status"] != "queued" && end["status"] != "running";
+        }, 120)) << id;
+        EXPECT_EQ(end["status"], "succeeded") << id;
+    }
 }
