@@ -58,7 +58,8 @@ json job_schema() {
 // The operations, keyed by method and OpenAPI path.
 json operation(const std::string& method, const std::string& path) {
     const json req_body = {{"required", true}, {"content", {{"application/json", {{"schema", ref("MeshRequest")}}}}}};
-    json busy = problem_response("the queue is full (429, Retry-After) or the server is draining (503)");
+    json busy = problem_response("the queue (or this API key's share of it, or its request rate) is full (429, Retry-After), "
+                                 "or the server is draining or its job store unreachable (503, Retry-After)");
     if (method == "post" && path == "/v1/meshes")
         return {{"summary", "Mesh synchronously"},
                 {"parameters", {format_param()}},
@@ -107,13 +108,26 @@ json operation(const std::string& method, const std::string& path) {
         return {{"summary", "Liveness"}, {"responses", {{"200", {{"description", "alive"}}}}}};
     if (path == "/readyz")
         return {{"summary", "Readiness"},
-                {"responses", {{"200", {{"description", "ready"}}}, {"503", problem_response("draining or queue full")}}}};
+                {"responses", {{"200", {{"description", "ready"}}}, {"503", problem_response("draining, or the job store is unreachable")}}}};
     if (path == "/metrics")
         return {{"summary", "Prometheus metrics"},
                 {"responses", {{"200", {{"description", "text exposition format 0.0.4"}, {"content", {{"text/plain", {{"schema", {{"type", "string"}}}}}}}}}}}};
     if (path == "/v1/openapi.json")
         return {{"summary", "This document"}, {"responses", {{"200", {{"description", "OpenAPI 3"}}}}}};
     return {{"summary", "?"}, {"responses", {{"200", {{"description", "?"}}}}}};
+}
+
+// Every /v1 operation: its answers to a missing or unknown API key (on a server with keys), a
+// used-up request rate, and a job store that cannot be reached.
+json with_access(json op, const std::string& path) {
+    if (path.rfind("/v1/", 0) != 0) return op;
+    op["security"] = json::array({{{"bearer", json::array()}}, json::object()});
+    op["responses"]["401"] = problem_response("no API key (a server started with --api-keys)");
+    op["responses"]["403"] = problem_response("an API key this server does not know");
+    if (!op["responses"].contains("429")) op["responses"]["429"] = problem_response("this API key's request rate is used up (Retry-After)");
+    if (path.rfind("/v1/jobs", 0) == 0 && !op["responses"].contains("503"))
+        op["responses"]["503"] = problem_response("the job store cannot be reached (Retry-After)");
+    return op;
 }
 
 }  // namespace
@@ -124,11 +138,13 @@ std::string Service::openapi() const {
     doc["info"] = {{"title", "meshd"}, {"version", "0.1.0"},
                    {"description", "Graded triangular meshes of plane domains from a mesh density function."}};
     json paths = json::object();
-    for (const Route& r : routes_) paths[r.path][r.method] = operation(r.method, r.path);
+    for (const Route& r : routes_) paths[r.path][r.method] = with_access(operation(r.method, r.path), r.path);
     doc["paths"] = paths;
     json schemas = json::parse(api::openapi_schemas());
     schemas["Job"] = job_schema();
-    doc["components"] = {{"schemas", schemas}};
+    doc["components"] = {{"schemas", schemas},
+                         {"securitySchemes", {{"bearer", {{"type", "http"}, {"scheme", "bearer"},
+                                                          {"description", "an API key (API.md \"Access\")"}}}}}};
     return doc.dump();
 }
 
