@@ -22,9 +22,9 @@ const std::string kPrefix = "{meshd}:";
 /// A job whose replica stopped this many times is failed instead of run again: it is
 /// probably what stops them.
 constexpr int kMaxRuns = 5;
-/// Results are stored in chunks of this size (a Redis string holds at most 512 MB, and one
-/// chunk per command keeps every reply small).
-constexpr size_t kChunk = size_t{8} << 20;
+/// Results are stored in chunks of this size (a Redis string holds at most 512 MB; one
+/// chunk per command keeps every command and reply small).
+constexpr size_t kChunk = size_t{1} << 20;
 /// How long a finished job's outcome is retried while the store is away; past it the job
 /// is left to its lease (another replica runs it again).
 constexpr std::chrono::seconds kOutcomeRetry{120};
@@ -823,14 +823,17 @@ void RedisStore::write_outcome(redis::Connection& c, const std::string& id, cons
     if (status == JobStatus::Succeeded) {
         // The chunks, then "n": a result is complete once "n" is there. It expires by itself
         // if the script below does not take it (the job ended elsewhere meanwhile).
-        std::vector<std::vector<std::string>> cmds{{"DEL", rk}};
+        // One chunk per round trip: hiredis moves the unsent rest of its output buffer after
+        // every partial write, so a pipeline of all the chunks cost time quadratic in them.
+        auto must = [](const redis::Reply& r) {
+            if (r.is_error()) throw std::runtime_error("storing a result: " + r.str);
+        };
+        must(c.command({"DEL", rk}));
         size_t k = 0;
         for (size_t at = 0; at < bytes.size() || k == 0; at += kChunk, ++k)
-            cmds.push_back({"HSET", rk, std::to_string(k), bytes.substr(at, kChunk)});
-        cmds.push_back({"HSET", rk, "n", std::to_string(k)});
-        cmds.push_back({"PEXPIRE", rk, ttl});
-        for (const redis::Reply& r : c.pipeline(cmds))
-            if (r.is_error()) throw std::runtime_error("storing a result: " + r.str);
+            must(c.command({"HSET", rk, std::to_string(k), std::string_view(bytes).substr(at, kChunk)}));
+        must(c.command({"HSET", rk, "n", std::to_string(k)}));
+        must(c.command({"PEXPIRE", rk, ttl}));
     }
     const redis::Reply r =
         eval(c, kFinish, id,
