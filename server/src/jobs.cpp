@@ -411,7 +411,13 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
     if (job->on_finish) {
         // A shared store's job: the store takes the outcome (and names it: a job handed back
         // to the queue has not ended); this manager keeps nothing.
-        const std::string outcome = job->on_finish(*job);
+        std::string outcome;
+        try {
+            outcome = job->on_finish(*job);
+        } catch (const std::exception& e) {
+            // The store keeps the job pending: its lease lapses and another replica runs it.
+            spdlog::error("job {}: its end could not be handed to the store: {}", job->id, e.what());
+        }
         if (outcome == "succeeded" || outcome == "failed" || outcome == "cancelled")
             metrics_.job_finished(outcome, secs, points, triangles);
         {

@@ -15,6 +15,12 @@ namespace meshd::server {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// Redis answered a command with an error.
+class StoreRefused : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
 using json = nlohmann::json;
 
 constexpr const char* kGroup = "workers";
@@ -311,8 +317,7 @@ redis::Reply RedisStore::eval_on(redis::Connection& c, const std::string& script
     std::vector<std::string> argv{"EVAL", script, "1", first_key, kPrefix};
     argv.insert(argv.end(), args.begin(), args.end());
     redis::Reply r = c.command(argv);
-    // A script error is a bug or a store older than Redis 7: no retry helps.
-    if (r.is_error()) throw std::runtime_error("store script failed: " + r.str);
+    if (r.is_error()) throw StoreRefused("store script failed: " + r.str);
     return r;
 }
 
@@ -327,6 +332,12 @@ auto RedisStore::with_store(const char* op, F&& f) {
         return out;
     } catch (const redis::Unavailable& e) {
         metrics_.store_op(op, std::chrono::duration<double>(Clock::now() - t0).count(), false);
+        throw StoreUnavailable(e.what());
+    } catch (const StoreRefused& e) {
+        // Redis answered with an error (out of memory under noeviction, a read-only
+        // replica after a failover): the store cannot take this now.
+        metrics_.store_op(op, std::chrono::duration<double>(Clock::now() - t0).count(), false);
+        spdlog::error("job store refused {}: {}", op, e.what());
         throw StoreUnavailable(e.what());
     }
 }
@@ -458,7 +469,14 @@ std::optional<JobMesh> RedisStore::mesh(const std::string& id) {
             }
             bytes += part.str;
         }
-        out.result = std::make_shared<const core::MeshResult>(api::decode_result(bytes));
+        try {
+            out.result = std::make_shared<const core::MeshResult>(api::decode_result(bytes));
+        } catch (const api::StoredResultError& e) {
+            // Not what this replica wrote (a store shared with another version, or damaged):
+            // the client gets "expired" and can submit again.
+            spdlog::error("job {}: its stored result cannot be read ({}); answered as expired", id, e.what());
+            out.info.expired = true;
+        }
         return out;
     });
 }

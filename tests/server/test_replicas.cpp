@@ -8,6 +8,7 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -382,4 +383,31 @@ TEST(Replicas, BehindTheLoadBalancerOfComposeYaml) {
         }, 120)) << id;
         EXPECT_EQ(end["status"], "succeeded") << id;
     }
+}
+
+// A Redis that refuses writes (full, under noeviction) is a store that cannot take work:
+// 503 with Retry-After, never a 500; the replica stays up and serves what it can.
+TEST(Replicas, AFullStoreAnswers503) {
+    RedisProcess redis(false, {"--maxmemory", "4mb", "--maxmemory-policy", "noeviction"});
+    auto a = replica(redis);
+    auto c = client(*a);
+    // A body of some 6 MB (a long spline) cannot be stored.
+    json big = json::parse(naca_request());
+    json through = json::array();
+    for (int i = 0; i < 120000; ++i) {
+        const double t = 6.283185307179586 * i / 120000;
+        through.push_back({30 * std::cos(t), 30 * std::sin(t)});
+    }
+    through.push_back(through[0]);
+    big["geometry"]["curves"]["farfield"] = {{"type", "spline"}, {"through", through}, {"tag", "farfield"}};
+    big["geometry"]["points"].erase("F");
+    auto r = c.Post("/v1/jobs", big.dump(), "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 503) << r->body;
+    EXPECT_EQ(json::parse(r->body)["type"], "/v1/problems/store-unavailable");
+    EXPECT_FALSE(r->get_header_value("Retry-After").empty());
+    // Small jobs still fit.
+    const std::string id = submit(c, naca_request());
+    ASSERT_FALSE(id.empty());
+    EXPECT_EQ(wait_for_job(c, id)["status"], "succeeded");
 }
