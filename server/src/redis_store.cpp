@@ -229,17 +229,22 @@ std::string foam_json(const api::FoamOptions& f) {
     return o.dump();
 }
 
+// The two below read what this store wrote; what they cannot read (a damaged store) gives
+// the defaults rather than failing the request.
 api::FoamOptions foam_of(const std::string& s) {
     api::FoamOptions f;
-    if (s.empty()) return f;
-    const json o = json::parse(s);
-    f.patch_types = o.at("patch_types").get<std::map<std::string, std::string>>();
-    if (o.contains("slab_thickness")) f.slab_thickness = o["slab_thickness"].get<double>();
+    const json o = json::parse(s, nullptr, false);
+    if (!o.is_object()) return f;
+    if (o.contains("patch_types") && o["patch_types"].is_object())
+        for (const auto& [tag, type] : o["patch_types"].items())
+            if (type.is_string()) f.patch_types[tag] = type.get<std::string>();
+    if (o.contains("slab_thickness") && o["slab_thickness"].is_number()) f.slab_thickness = o["slab_thickness"].get<double>();
     return f;
 }
 
 api::Problem problem_of_json(const std::string& s) {
-    const json o = json::parse(s);
+    json o = json::parse(s, nullptr, false);
+    if (!o.is_object()) o = json::object();
     api::Problem p;
     p.status = o.value("status", 500);
     p.type = o.value("type", "");
@@ -368,10 +373,12 @@ void RedisStore::stop_claiming() {
 
 void RedisStore::stop() {
     {
-        // Outcomes not yet written get the drain's time to reach the store.
+        // Outcomes not yet written get a few seconds more to reach the store (the drain has
+        // had its time already; an orchestrator's grace is the drain plus about 5 s). What
+        // is left is run again elsewhere once its lease lapses.
         std::lock_guard<std::mutex> lock(m_);
         writer_stop_ = true;
-        writer_deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(config_.drain_s));
+        writer_deadline_ = Clock::now() + std::chrono::seconds(4);
     }
     cv_.notify_all();
     if (writer_.joinable()) writer_.join();

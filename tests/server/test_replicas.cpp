@@ -383,6 +383,19 @@ TEST(Replicas, BehindTheLoadBalancerOfComposeYaml) {
         }, 120)) << id;
         EXPECT_EQ(end["status"], "succeeded") << id;
     }
+    // No replica left: the balancer answers with a problem and Retry-After, as meshd would.
+    for (size_t i = 1; i < replicas.size(); ++i) replicas[i]->signal(SIGTERM);
+    for (size_t i = 1; i < replicas.size(); ++i) EXPECT_EQ(replicas[i]->wait(std::chrono::seconds(30)), 0);
+    httplib::Response last;
+    ASSERT_TRUE(eventually([&] {
+        auto r = c.Get("/v1/jobs/" + ids[0]);
+        if (!r || r->status != 503) return false;
+        last = *r;
+        return true;
+    }, 60));
+    EXPECT_EQ(last.get_header_value("Content-Type"), "application/problem+json");
+    EXPECT_EQ(last.get_header_value("Retry-After"), "2");
+    EXPECT_EQ(json::parse(last.body)["type"], "/v1/problems/no-replica");
 }
 
 // A Redis that refuses writes (full, under noeviction) is a store that cannot take work:
