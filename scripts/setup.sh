@@ -9,6 +9,8 @@ packages=(
   # the shared job store: the C client, and the server the tests start; SHA-256 of API keys;
   # the load balancer in front of replicas (docker/haproxy.cfg, tested for real)
   libhiredis-dev redis-server libssl-dev haproxy
+  # CGNS (format=cgns) and what the tests check its files with
+  libcgns-dev cgns-convert python3-h5py
   libgtest-dev libgmock-dev libbenchmark-dev
   # the readers the tests read our files back with
   python3 python3-numpy python3-meshio python3-vtk9 gmsh python3-gmsh python3-dolfinx

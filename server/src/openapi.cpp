@@ -23,7 +23,8 @@ json mesh_content() {
             {"application/octet-stream", {{"schema", {{"type", "string"}, {"format", "binary"}}}}},
             {"text/plain", {{"schema", {{"type", "string"}}}}},
             {"image/svg+xml", {{"schema", {{"type", "string"}}}}},
-            {"application/x-tar", {{"schema", {{"type", "string"}, {"format", "binary"}}}}}};
+            {"application/x-tar", {{"schema", {{"type", "string"}, {"format", "binary"}}}}},
+            {"application/x-hdf5", {{"schema", {{"type", "string"}, {"format", "binary"}}}}}};
 }
 
 json format_param() {

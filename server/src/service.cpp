@@ -106,6 +106,7 @@ void send_mesh(httplib::Response& res, std::shared_ptr<const core::MeshResult> r
                api::FoamOptions foam, std::chrono::steady_clock::time_point until) {
     res.status = 200;
     if (f == api::Format::Foam) res.set_header("Content-Disposition", "attachment; filename=\"polyMesh.tar\"");
+    if (f == api::Format::Cgns) res.set_header("Content-Disposition", "attachment; filename=\"mesh.cgns\"");
     res.set_chunked_content_provider(api::content_type(f), [result, f, foam = std::move(foam), until](size_t, httplib::DataSink& sink) {
         bool ok = true;
         {

@@ -187,6 +187,15 @@ TEST_P(Http, SyncMeshInEveryFormatMatchesTheCli) {
         // The same bytes as the CLI's file, which tests/formats reads back with meshio, VTK and gmsh.
         EXPECT_EQ(f->body, cli_output(fmt)) << fmt;
     }
+    // CGNS: an HDF5 file (tests/formats/cgns_check.py reads the CLI's back); HDF5 stamps its
+    // objects with their creation time, so only the size is the CLI's.
+    auto cgns = c.Post("/v1/meshes?format=cgns", naca_request(), "application/json");
+    ASSERT_TRUE(cgns);
+    ASSERT_EQ(cgns->status, 200);
+    EXPECT_EQ(cgns->get_header_value("Content-Type"), "application/x-hdf5");
+    EXPECT_EQ(cgns->get_header_value("Content-Disposition"), "attachment; filename=\"mesh.cgns\"");
+    EXPECT_EQ(cgns->body.substr(0, 8), std::string("\x89HDF\r\n\x1a\n", 8));
+    EXPECT_EQ(cgns->body.size(), cli_output("cgns").size());
     auto bad = c.Post("/v1/meshes?format=stl", naca_request(), "application/json");
     ASSERT_TRUE(bad);
     EXPECT_EQ(bad->status, 400);

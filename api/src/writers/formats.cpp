@@ -29,6 +29,7 @@ const char* format_name(Format f) {
         case Format::Msh: return "msh";
         case Format::Svg: return "svg";
         case Format::Foam: return "foam";
+        case Format::Cgns: return "cgns";
     }
     return "json";
 }
@@ -41,6 +42,7 @@ const char* content_type(Format f) {
         case Format::Msh: return "text/plain; charset=utf-8";
         case Format::Svg: return "image/svg+xml";
         case Format::Foam: return "application/x-tar";
+        case Format::Cgns: return "application/x-hdf5";
     }
     return "application/octet-stream";
 }
@@ -61,6 +63,7 @@ void write_mesh(Format f, const MeshResult& r, std::ostream& os, const FoamOptio
         case Format::Msh: write_msh(r, os); break;
         case Format::Svg: write_svg(r, os); break;
         case Format::Foam: write_foam(r, os, foam); break;
+        case Format::Cgns: write_cgns(r, os, foam); break;
     }
 }
 

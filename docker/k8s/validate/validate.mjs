@@ -76,6 +76,12 @@ if (dep) {
   if (!(pod.terminationGracePeriodSeconds >= drain + 5))
     errors.push(`terminationGracePeriodSeconds (${pod.terminationGracePeriodSeconds}) must exceed MESHD_DRAIN_S (${drain}) by 5 s`);
   if (!pod.securityContext?.runAsNonRoot) errors.push("pods must run as non-root");
+  // A read-only root needs a writable /tmp (format=cgns writes its file there first).
+  if (c.securityContext?.readOnlyRootFilesystem) {
+    const tmp = (c.volumeMounts || []).find((m) => m.mountPath === "/tmp");
+    const vol = tmp && (pod.volumes || []).find((v) => v.name === tmp.name);
+    if (!vol?.emptyDir) errors.push("with a read-only root, /tmp must be an emptyDir");
+  }
   // The shared store: its URL names the Redis Service, its password comes from a Secret.
   const store = /^redis:\/\/([^:/]+):(\d+)/.exec(env.MESHD_STORE || "");
   const redisService = store && named("Service", store[1]);

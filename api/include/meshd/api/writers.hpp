@@ -13,9 +13,10 @@
 
 namespace meshd::api {
 
-enum class Format { Json, Vtk, Su2, Msh, Svg, Foam };
+enum class Format { Json, Vtk, Su2, Msh, Svg, Foam, Cgns };
 
-inline constexpr Format kFormats[] = {Format::Json, Format::Vtk, Format::Su2, Format::Msh, Format::Svg, Format::Foam};
+inline constexpr Format kFormats[] = {Format::Json, Format::Vtk, Format::Su2, Format::Msh,
+                                      Format::Svg,  Format::Foam, Format::Cgns};
 
 std::optional<Format> parse_format(std::string_view name);
 const char* format_name(Format f);
@@ -52,6 +53,9 @@ struct FoamOptions {
 /// thick, one patch per tag (named by the tag, characters OpenFOAM refuses as '_'), the slab's
 /// faces in the empty patch frontAndBack.
 void write_foam(const core::MeshResult& r, std::ostream& os, const FoamOptions& options = {});
+/// CGNS/HDF5 (cgns.cpp): one unstructured zone, a TRI_3 section, a BAR_2 section per tag,
+/// a boundary condition (and family) per loop tag, typed from `options.patch_types`.
+void write_cgns(const core::MeshResult& r, std::ostream& os, const FoamOptions& options = {});
 /// view: the window of the plane to draw (default: the whole mesh); triangles and edges
 /// outside it are left out.
 void write_svg(const core::MeshResult& r, std::ostream& os, std::optional<core::Box> view = std::nullopt);
