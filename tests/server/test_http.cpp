@@ -799,3 +799,22 @@ TEST_P(Http, OneKeyFloodingLeavesTheOthersServed) {
         return st && st->status == 200 && json::parse(st->body)["status"] == "succeeded";
     }));
 }
+
+// The CGNS library keeps global state: answers written at the same time by several threads
+// are each whole (the writer holds a lock around the library).
+TEST_P(Http, ConcurrentCgnsAnswersAreEachWhole) {
+    auto server = serve({"--workers", "2", "--http-threads", "8"});
+    const std::string expected_size = std::to_string(meshd::test::client(*server)
+                                                         .Post("/v1/meshes?format=cgns", naca_request(), "application/json")
+                                                         ->body.size());
+    std::vector<std::thread> threads;
+    std::vector<std::string> sizes(6);
+    for (size_t i = 0; i < sizes.size(); ++i)
+        threads.emplace_back([&, i] {
+            auto c = client(*server);
+            auto r = c.Post("/v1/meshes?format=cgns", naca_request(), "application/json");
+            sizes[i] = r && r->status == 200 && r->body.rfind("\x89HDF", 0) == 0 ? std::to_string(r->body.size()) : "failed";
+        });
+    for (auto& t : threads) t.join();
+    for (const std::string& s : sizes) EXPECT_EQ(s, expected_size);
+}
