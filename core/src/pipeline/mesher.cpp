@@ -7,6 +7,7 @@
 #include "boundary/boundary.hpp"
 #include "density/size_field.hpp"
 #include "improve/quality.hpp"
+#include "pipeline/second_order.hpp"
 #include "improve/refine.hpp"
 #include "improve/smooth.hpp"
 #include "interior/interior.hpp"
@@ -161,6 +162,8 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         r.stats.refinement_points =
             refine_min_angle(m, domain, rho, options.min_angle_deg, options.max_points, observer);
     r.timings.smoothing_ms = ms_since(t0);
+
+    if (options.order == 2) r.stats.straightened_edges = add_edge_nodes(m, domain);
 
     begin(Stage::Quality);
     r.quality = measure_quality(m, rho);

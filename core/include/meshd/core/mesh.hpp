@@ -79,6 +79,16 @@ struct Mesh {
     std::vector<std::vector<LoopCurve>> loops;
     /// rho at each point (the interior density), for writers that carry the target size.
     std::vector<double> target_size;
+    /// Second order (MeshOptions::order 2): one node on each edge, numbered after the
+    /// vertices (edge node k is point point_count() + k in the files). On a curve's edge it
+    /// lies on the curve (at the parameter halfway between the ends'), elsewhere halfway
+    /// along the chord. `edge_node[t][i]` is the node on edge i of triangle t (from v[(i+1)%3]
+    /// to v[(i+2)%3]); `edge_node_of_edge[k]` the node on edges[k]. All empty at order 1.
+    std::vector<Vec2> edge_nodes;
+    std::vector<std::array<std::uint32_t, 3>> edge_node;
+    std::vector<std::uint32_t> edge_node_of_edge;
+
+    int order() const { return edge_nodes.empty() ? 1 : 2; }
 
     size_t point_count() const { return x.size(); }
     Vec2 point(VertexId v) const { return {x[v], y[v]}; }

@@ -71,6 +71,9 @@ struct MeshOptions {
     /// method. The request layer accepts up to 34 (Ruppert-style refinement is proven to end
     /// up to about 20.7 degrees and in practice ends well beyond 30).
     double min_angle_deg = 0.0;
+    /// 1: straight 3-node triangles; 2: 6-node triangles whose edge nodes on the curves lie
+    /// on the curves (Mesh::edge_nodes).
+    int order = 1;
 };
 
 struct StageTimings {
@@ -98,6 +101,9 @@ struct MeshStats {
     TriangulationStats triangulation;
     std::uint64_t smoothing_moves = 0, smoothing_flips = 0;
     std::uint64_t refinement_points = 0;
+    /// Order 2: curve edges left straight because their curved node would have folded the
+    /// triangle (a Jacobian not positive at a node).
+    std::uint64_t straightened_edges = 0;
     /// Predicate calls the floating-point filter could not settle (exact stage).
     std::uint64_t orient_exact = 0, incircle_exact = 0;
 };
