@@ -86,7 +86,9 @@ TEST(SecondOrder, CurveEdgesGetNodesOnTheCurveAndInnerEdgesTheChordMiddle) {
         bool straight = true;
         for (std::uint32_t i = 0; i < 3; ++i) straight = straight && !on_curves.count(m.edge_node[t][i]);
         // A straight 6-node triangle maps the reference triangle affinely: J / 2A = 1 everywhere.
-        if (straight) EXPECT_NEAR(min_scaled_jacobian(m, t), 1.0, 1e-9) << "triangle " << t;
+        if (straight) {
+            EXPECT_NEAR(min_scaled_jacobian(m, t), 1.0, 1e-9) << "triangle " << t;
+        }
         for (std::uint32_t i = 0; i < 3; ++i) {
             if (on_curves.count(m.edge_node[t][i])) continue;
             const VertexId a = m.triangles[t].v[(i + 1) % 3], b = m.triangles[t].v[(i + 2) % 3];
