@@ -111,6 +111,15 @@ int main(int argc, char** argv) {
     }
     try {
         const api::MeshRequest req = api::parse_request(body);
+        if (req.options.order == 2)
+            if (auto why = api::second_order_refusal(*format)) {
+                std::fprintf(stderr, "%s\n",
+                             api::Problem{422, "/v1/problems/format-cannot-hold-order", "Format cannot hold this mesh", *why,
+                                          "/options/order"}
+                                 .to_json()
+                                 .c_str());
+                return 3;
+            }
         Progress progress(!quiet && isatty(2), req.timeout_s);
         const core::MeshResult r = core::generate_mesh(req.geometry, req.density, req.options, &progress);
         progress.finish();

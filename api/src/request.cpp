@@ -361,7 +361,8 @@ void density(const json& d, const NameOrder& order, core::DensitySpec& out) {
 void options(const json& o, MeshRequest& r) {
     const std::string ptr = "/options";
     expect_object(o, ptr, {"smoothing_iterations", "triangulator", "max_points", "timeout_s", "min_angle_deg",
-                           "patch_types", "slab_thickness"});
+                           "patch_types", "slab_thickness", "order"});
+    if (o.contains("order")) r.options.order = static_cast<int>(integer(o["order"], ptr + "/order", 1, 2));
     if (o.contains("smoothing_iterations"))
         r.options.smoothing_iterations = static_cast<int>(integer(o["smoothing_iterations"], ptr + "/smoothing_iterations", 0, 1000));
     if (o.contains("triangulator")) {

@@ -8,7 +8,7 @@ namespace meshd::api {
 
 namespace {
 
-constexpr std::string_view kMagic = "MESHDR01";
+constexpr std::string_view kMagic = "MESHDR02";
 
 class Writer {
 public:
@@ -119,6 +119,16 @@ std::string encode_result(const core::MeshResult& r) {
             w.u8(u.reversed ? 1 : 0);
         }
     }
+    w.u64(m.edge_nodes.size());
+    for (const core::Vec2& p : m.edge_nodes) {
+        w.f64(p.x);
+        w.f64(p.y);
+    }
+    if (!m.edge_nodes.empty()) {
+        for (const auto& e : m.edge_node)
+            for (std::uint32_t k : e) w.u32(k);
+        for (std::uint32_t k : m.edge_node_of_edge) w.u32(k);
+    }
 
     const core::QualityMetrics& q = r.quality;
     for (size_t v : {q.points, q.boundary_points, q.interior_points, q.triangles}) w.u64(v);
@@ -205,6 +215,23 @@ core::MeshResult decode_result(std::string_view bytes) {
             u.reversed = rd.u8() != 0;
             if (u.curve >= m.curve_ends.size()) throw StoredResultError("stored result: a loop runs along a curve it does not hold");
         }
+    }
+    m.edge_nodes.resize(rd.count(16));
+    for (core::Vec2& p : m.edge_nodes) {
+        p.x = rd.f64();
+        p.y = rd.f64();
+    }
+    if (!m.edge_nodes.empty()) {
+        auto node = [&] {
+            const std::uint32_t k = rd.u32();
+            if (k >= m.edge_nodes.size()) throw StoredResultError("stored result: an edge node it does not hold");
+            return k;
+        };
+        m.edge_node.resize(m.triangles.size());
+        for (auto& e : m.edge_node)
+            for (std::uint32_t& k : e) k = node();
+        m.edge_node_of_edge.resize(m.edges.size());
+        for (std::uint32_t& k : m.edge_node_of_edge) k = node();
     }
 
     core::QualityMetrics& q = r.quality;

@@ -200,6 +200,10 @@ json job_json(const JobInfo& j) {
     return o;
 }
 
+api::Problem second_order_problem(const std::string& why) {
+    return problem(422, "format-cannot-hold-order", "Format cannot hold this mesh", why, "/options/order");
+}
+
 void store_unavailable(httplib::Response& res, const StoreUnavailable& e) {
     spdlog::warn("job store unavailable: {}", e.what());
     res.set_header("Retry-After", "2");
@@ -434,6 +438,8 @@ void Service::install() {
         if (!f) return;
         auto parsed = parse(req, res, reader);
         if (!parsed) return;
+        if (parsed->request.options.order == 2)
+            if (auto why = api::second_order_refusal(*f)) return send_problem(res, second_order_problem(*why));
         if (draining_) return refuse_busy(res);
         auto job = jobs_->submit(std::move(parsed->request), parsed->seconds);
         if (!job) return refuse_busy(res);
@@ -535,6 +541,8 @@ void Service::install() {
                 break;
         }
         if (!job->result) return send_problem(res, problem(410, "expired", "Gone", "the mesh has expired; submit the request again"));
+        if (job->result->mesh.order() == 2)
+            if (auto why = api::second_order_refusal(*f)) return send_problem(res, second_order_problem(*why));
         send_mesh(res, std::move(job->result), *f, std::move(job->foam),
                   std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                          std::chrono::duration<double>(config_.job_timeout_s)));

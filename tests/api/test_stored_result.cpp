@@ -85,7 +85,9 @@ TEST(StoredResult, DecodedIsTheSameResultInEveryField) {
 TEST(StoredResult, BytesThatAreNotOneAreRefused) {
     const std::string bytes = api::encode_result(naca());
     EXPECT_THROW(api::decode_result(""), api::StoredResultError);
-    EXPECT_THROW(api::decode_result("MESHDR02" + bytes.substr(8)), api::StoredResultError);
+    // A result of the previous version (no edge nodes) is refused: a store read as expired.
+    EXPECT_THROW(api::decode_result("MESHDR01" + bytes.substr(8)), api::StoredResultError);
+    EXPECT_THROW(api::decode_result("MESHDR03" + bytes.substr(8)), api::StoredResultError);
     EXPECT_THROW(api::decode_result(bytes + "x"), api::StoredResultError);
     // Cut anywhere: refused, never read past the end (the sanitizer build checks).
     for (size_t cut = 0; cut < bytes.size(); cut += 1 + bytes.size() / 97)
@@ -100,4 +102,38 @@ TEST(StoredResult, BytesThatAreNotOneAreRefused) {
     std::string bad = bytes;
     for (size_t i = 0; i < 4; ++i) bad[first_triangle + i] = '\xff';
     EXPECT_THROW(api::decode_result(bad), api::StoredResultError);
+}
+
+// A second-order mesh keeps its edge nodes: the same files after the round trip.
+TEST(StoredResult, ASecondOrderMeshKeepsItsEdgeNodes) {
+    api::MeshRequest req = api::parse_request(test::read_file(MESHD_SOURCE_DIR "/examples/naca0012.json"));
+    req.options.order = 2;
+    const core::MeshResult a = core::generate_mesh(req.geometry, req.density, req.options);
+    ASSERT_EQ(a.mesh.order(), 2);
+    const core::MeshResult b = api::decode_result(api::encode_result(a));
+    ASSERT_EQ(b.mesh.order(), 2);
+    ASSERT_EQ(a.mesh.edge_nodes.size(), b.mesh.edge_nodes.size());
+    for (size_t k = 0; k < a.mesh.edge_nodes.size(); ++k) {
+        EXPECT_EQ(a.mesh.edge_nodes[k].x, b.mesh.edge_nodes[k].x);
+        EXPECT_EQ(a.mesh.edge_nodes[k].y, b.mesh.edge_nodes[k].y);
+    }
+    EXPECT_EQ(a.mesh.edge_node, b.mesh.edge_node);
+    EXPECT_EQ(a.mesh.edge_node_of_edge, b.mesh.edge_node_of_edge);
+    for (const char* name : {"json", "vtk", "msh", "svg"}) {
+        const api::Format f = *api::parse_format(name);
+        EXPECT_EQ(written(f, a), written(f, b)) << name;
+    }
+}
+
+// su2 and foam cannot hold 6-node triangles: writing one is refused with the reason.
+TEST(SecondOrderFormats, Su2AndFoamRefuseWithTheReason) {
+    api::MeshRequest req = api::parse_request(test::read_file(MESHD_SOURCE_DIR "/examples/naca0012.json"));
+    req.options.order = 2;
+    const core::MeshResult a = core::generate_mesh(req.geometry, req.density, req.options);
+    for (const char* name : {"su2", "foam"}) {
+        const api::Format f = *api::parse_format(name);
+        ASSERT_TRUE(api::second_order_refusal(f)) << name;
+        EXPECT_THROW(written(f, a), std::invalid_argument) << name;
+    }
+    for (const char* name : {"json", "vtk", "msh", "cgns", "svg"}) EXPECT_FALSE(api::second_order_refusal(*api::parse_format(name))) << name;
 }

@@ -66,7 +66,8 @@ struct ScratchFile {
 };
 
 void write_file(const Mesh& m, const std::string& path, const FoamOptions& options) {
-    const size_t nv = m.point_count(), nt = m.triangles.size();
+    const bool quadratic = m.order() == 2;  // TRI_6 and BAR_3
+    const size_t nv = all_points(m), nt = m.triangles.size();
     if (nv > static_cast<size_t>(INT32_MAX) || nt + m.edges.size() > static_cast<size_t>(INT32_MAX))
         throw std::runtime_error("CGNS: the mesh has more elements than this CGNS library counts (2^31)");
     must(cg_set_file_type(CG_FILE_HDF5), "file type");
@@ -85,7 +86,7 @@ void write_file(const Mesh& m, const std::string& path, const FoamOptions& optio
     cgsize_t size[3] = {static_cast<cgsize_t>(nv), static_cast<cgsize_t>(nt), 0};
     must(cg_zone_write(fn, base, "Zone", size, Unstructured, &zone), "zone");
     std::vector<double> c(nv);
-    for (size_t i = 0; i < nv; ++i) c[i] = m.point(static_cast<core::VertexId>(i)).x;
+    for (size_t i = 0; i < nv; ++i) c[i] = any_point(m, i).x;
     // Each coordinate a length: exponents 0 of mass, 1 of length, 0 of time, temperature, angle.
     const double length[5] = {0, 1, 0, 0, 0};
     auto write_coordinate = [&](const char* name) {
@@ -94,15 +95,21 @@ void write_file(const Mesh& m, const std::string& path, const FoamOptions& optio
         must(cg_exponents_write(RealDouble, length), "exponents");
     };
     write_coordinate("CoordinateX");
-    for (size_t i = 0; i < nv; ++i) c[i] = m.point(static_cast<core::VertexId>(i)).y;
+    for (size_t i = 0; i < nv; ++i) c[i] = any_point(m, i).y;
     write_coordinate("CoordinateY");
     c = {};
 
     std::vector<cgsize_t> conn;
-    conn.reserve(3 * nt);
-    for (const core::Triangle& t : m.triangles)
-        for (size_t k = 0; k < 3; ++k) conn.push_back(static_cast<cgsize_t>(t.v[k]) + 1);
-    must(cg_section_write(fn, base, zone, "Triangles", TRI_3, 1, static_cast<cgsize_t>(nt), 0, conn.data(), &section),
+    conn.reserve((quadratic ? 6 : 3) * nt);
+    for (size_t t = 0; t < nt; ++t) {
+        if (quadratic) {
+            for (size_t v : six_nodes(m, t)) conn.push_back(static_cast<cgsize_t>(v) + 1);
+        } else {
+            for (size_t k = 0; k < 3; ++k) conn.push_back(static_cast<cgsize_t>(m.triangles[t].v[k]) + 1);
+        }
+    }
+    must(cg_section_write(fn, base, zone, "Triangles", quadratic ? TRI_6 : TRI_3, 1, static_cast<cgsize_t>(nt), 0,
+                          conn.data(), &section),
          "triangles");
 
     // Names within 32 characters, apart from each other and from the sections above.
@@ -145,9 +152,12 @@ void write_file(const Mesh& m, const std::string& path, const FoamOptions& optio
             for (const core::MeshEdge* e : edges) {
                 conn.push_back(static_cast<cgsize_t>(e->a) + 1);
                 conn.push_back(static_cast<cgsize_t>(e->b) + 1);
+                if (quadratic) conn.push_back(static_cast<cgsize_t>(edge_middle(m, *e)) + 1);
             }
             const cgsize_t first = next, last = next + static_cast<cgsize_t>(edges.size()) - 1;
-            must(cg_section_write(fn, base, zone, name.c_str(), BAR_2, first, last, 0, conn.data(), &section), "edges");
+            must(cg_section_write(fn, base, zone, name.c_str(), quadratic ? BAR_3 : BAR_2, first, last, 0, conn.data(),
+                                  &section),
+                 "edges");
             next = last + 1;
             if (embedded) continue;  // inside the domain: no boundary condition
             auto it = options.patch_types.find(m.tags[tag]);

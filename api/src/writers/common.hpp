@@ -2,6 +2,7 @@
 // What the writers share: shortest round-trip numbers, big-endian binary, edges by tag.
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <charconv>
 #include <cstdint>
@@ -46,6 +47,24 @@ void put_be(std::ostream& os, T v) {
 
 inline double tri_quality(const Mesh& m, const core::Triangle& t) {
     return core::radius_ratio(m.point(t.v[0]), m.point(t.v[1]), m.point(t.v[2]));
+}
+
+// Second order: the points of a file are the vertices, then the edge nodes (Mesh::edge_nodes).
+inline size_t all_points(const Mesh& m) { return m.point_count() + m.edge_nodes.size(); }
+inline core::Vec2 any_point(const Mesh& m, size_t id) {
+    return id < m.point_count() ? m.point(static_cast<core::VertexId>(id)) : m.edge_nodes[id - m.point_count()];
+}
+// A 6-node triangle in the order VTK, gmsh and CGNS share: corners, then the nodes on
+// (v0, v1), (v1, v2), (v2, v0).
+inline std::array<size_t, 6> six_nodes(const Mesh& m, size_t t) {
+    const auto& v = m.triangles[t].v;
+    const auto& e = m.edge_node[t];
+    const size_t n = m.point_count();
+    return {v[0], v[1], v[2], n + e[2], n + e[0], n + e[1]};
+}
+// The node on a mesh edge (second order).
+inline size_t edge_middle(const Mesh& m, const core::MeshEdge& e) {
+    return m.point_count() + m.edge_node_of_edge[static_cast<size_t>(&e - m.edges.data())];
 }
 
 // Edges grouped by tag, in tag order.

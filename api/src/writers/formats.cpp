@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "writers/common.hpp"
 
@@ -55,7 +56,15 @@ size_t result_bytes(const core::MeshResult& r) {
 
 void write_mesh(Format f, const MeshResult& r, std::ostream& os) { write_mesh(f, r, os, FoamOptions{}); }
 
+std::optional<std::string> second_order_refusal(Format f) {
+    if (f == Format::Su2) return "SU2's native mesh format has no second-order triangles; ask for order 1, or take msh, vtk or cgns";
+    if (f == Format::Foam) return "OpenFOAM has no curved cells; ask for order 1 for format=foam";
+    return std::nullopt;
+}
+
 void write_mesh(Format f, const MeshResult& r, std::ostream& os, const FoamOptions& foam) {
+    if (r.mesh.order() == 2)
+        if (auto why = second_order_refusal(f)) throw std::invalid_argument(*why);
     switch (f) {
         case Format::Json: write_json(r, os); break;
         case Format::Vtk: write_vtk(r, os); break;

@@ -31,19 +31,33 @@ std::string metrics_json(const MeshResult& r) {
 
 void write_json(const MeshResult& r, std::ostream& os) {
     const Mesh& m = r.mesh;
-    os << "{\"mesh\":{\"points\":[";
-    for (size_t v = 0; v < m.point_count(); ++v) os << (v ? ",[" : "[") << Num(m.x[v]) << ',' << Num(m.y[v]) << ']';
+    const bool quadratic = m.order() == 2;
+    // Second order: the edge nodes follow the vertices; triangles list six nodes and edges
+    // three (their ends, then their middle node).
+    os << "{\"mesh\":{" << (quadratic ? "\"order\":2," : "") << "\"points\":[";
+    for (size_t v = 0; v < all_points(m); ++v) {
+        const core::Vec2 p = any_point(m, v);
+        os << (v ? ",[" : "[") << Num(p.x) << ',' << Num(p.y) << ']';
+    }
     os << "],\"triangles\":[";
     for (size_t t = 0; t < m.triangles.size(); ++t) {
         const auto& T = m.triangles[t];
-        os << (t ? ",[" : "[") << T.v[0] << ',' << T.v[1] << ',' << T.v[2] << ']';
+        os << (t ? ",[" : "[") << T.v[0] << ',' << T.v[1] << ',' << T.v[2];
+        if (quadratic) {
+            const auto six = six_nodes(m, t);
+            os << ',' << six[3] << ',' << six[4] << ',' << six[5];
+        }
+        os << ']';
     }
     os << "],\"boundaries\":{";
     const auto groups = edges_by_tag(m);
     for (size_t g = 0; g < groups.size(); ++g) {
         os << (g ? "," : "") << nlohmann::json(m.tags[g]).dump() << ":[";
-        for (size_t i = 0; i < groups[g].size(); ++i)
-            os << (i ? ",[" : "[") << groups[g][i]->a << ',' << groups[g][i]->b << ']';
+        for (size_t i = 0; i < groups[g].size(); ++i) {
+            os << (i ? ",[" : "[") << groups[g][i]->a << ',' << groups[g][i]->b;
+            if (quadratic) os << ',' << edge_middle(m, *groups[g][i]);
+            os << ']';
+        }
         os << ']';
     }
     os << "}},\"metrics\":" << metrics_json(r) << "}\n";

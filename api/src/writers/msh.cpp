@@ -152,28 +152,64 @@ void write_msh(const MeshResult& r, std::ostream& os) {
     // Nodes by entity: the points, the curves (in the curve's direction), the surface. Without
     // parametric coordinates, as gmsh writes by default: meshio and the readers built on it
     // refuse parametric nodes.
-    os << "$Nodes\n" << points.size() + curves.size() + 1 << ' ' << np << " 1 " << np << '\n';
+    // Second order: the edge nodes of a curve's edges on that curve, the others on the surface.
+    const bool quadratic = m.order() == 2;
+    const size_t nall = all_points(m);
+    std::vector<std::vector<size_t>> curve_extra(curves.size());
+    std::vector<size_t> surface_extra;
+    if (quadratic) {
+        std::vector<bool> on_curve(m.edge_nodes.size(), false);
+        for (size_t i = 0; i < curves.size(); ++i)
+            for (const core::MeshEdge* e : curves[i].edges) {
+                curve_extra[i].push_back(edge_middle(m, *e));
+                on_curve[curve_extra[i].back() - np] = true;
+            }
+        for (size_t k = 0; k < m.edge_nodes.size(); ++k)
+            if (!on_curve[k]) surface_extra.push_back(np + k);
+    }
+    auto coords = [&](size_t v) {
+        const core::Vec2 p = any_point(m, v);
+        os << Num(p.x) << ' ' << Num(p.y) << " 0\n";
+    };
+    os << "$Nodes\n" << points.size() + curves.size() + 1 << ' ' << nall << " 1 " << nall << '\n';
     for (core::VertexId v : points) os << "0 " << point_tag[v] << " 0 1\n" << v + 1 << '\n' << Num(m.x[v]) << ' ' << Num(m.y[v]) << " 0\n";
     for (size_t i = 0; i < curves.size(); ++i) {
-        os << "1 " << i + 1 << " 0 " << curves[i].nodes.size() << '\n';
+        os << "1 " << i + 1 << " 0 " << curves[i].nodes.size() + curve_extra[i].size() << '\n';
         for (core::VertexId v : curves[i].nodes) os << v + 1 << '\n';
-        for (core::VertexId v : curves[i].nodes) os << Num(m.x[v]) << ' ' << Num(m.y[v]) << " 0\n";
+        for (size_t v : curve_extra[i]) os << v + 1 << '\n';
+        for (core::VertexId v : curves[i].nodes) coords(v);
+        for (size_t v : curve_extra[i]) coords(v);
     }
-    os << "2 1 0 " << on_surface.size() << '\n';
+    os << "2 1 0 " << on_surface.size() + surface_extra.size() << '\n';
     for (core::VertexId v : on_surface) os << v + 1 << '\n';
-    for (core::VertexId v : on_surface) os << Num(m.x[v]) << ' ' << Num(m.y[v]) << " 0\n";
+    for (size_t v : surface_extra) os << v + 1 << '\n';
+    for (core::VertexId v : on_surface) coords(v);
+    for (size_t v : surface_extra) coords(v);
     os << "$EndNodes\n";
 
-    // Elements: the lines on their curves, the triangles on the surface.
+    // Elements: the lines on their curves, the triangles on the surface (types 1 and 2, or
+    // 8 and 9 at second order: 3-node lines and 6-node triangles).
     const size_t nelem = m.triangles.size() + m.edges.size();
     os << "$Elements\n" << curves.size() + 1 << ' ' << nelem << " 1 " << nelem << '\n';
     size_t id = 1;
     for (size_t i = 0; i < curves.size(); ++i) {
-        os << "1 " << i + 1 << " 1 " << curves[i].edges.size() << '\n';
-        for (const core::MeshEdge* e : curves[i].edges) os << id++ << ' ' << e->a + 1 << ' ' << e->b + 1 << '\n';
+        os << "1 " << i + 1 << (quadratic ? " 8 " : " 1 ") << curves[i].edges.size() << '\n';
+        for (const core::MeshEdge* e : curves[i].edges) {
+            os << id++ << ' ' << e->a + 1 << ' ' << e->b + 1;
+            if (quadratic) os << ' ' << edge_middle(m, *e) + 1;
+            os << '\n';
+        }
     }
-    os << "2 1 2 " << m.triangles.size() << '\n';
-    for (const auto& t : m.triangles) os << id++ << ' ' << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << '\n';
+    os << "2 1 " << (quadratic ? 9 : 2) << ' ' << m.triangles.size() << '\n';
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+        os << id++;
+        if (quadratic) {
+            for (size_t v : six_nodes(m, t)) os << ' ' << v + 1;
+        } else {
+            for (auto v : m.triangles[t].v) os << ' ' << v + 1;
+        }
+        os << '\n';
+    }
     os << "$EndElements\n";
 }
 

@@ -11,7 +11,9 @@ using namespace writers;
 
 void write_vtk(const MeshResult& r, std::ostream& os) {
     const Mesh& m = r.mesh;
-    const size_t np = m.point_count(), nt = m.triangles.size(), ne = m.edges.size();
+    const bool quadratic = m.order() == 2;  // VTK_QUADRATIC_TRIANGLE and VTK_QUADRATIC_EDGE
+    const size_t np = all_points(m), nt = m.triangles.size(), ne = m.edges.size();
+    const std::int32_t tri_nodes = quadratic ? 6 : 3, edge_nodes = quadratic ? 3 : 2;
     os << "# vtk DataFile Version 3.0\n";
     std::string title = "meshd tags:";
     for (size_t i = 0; i < m.tags.size(); ++i) title += " " + std::to_string(i) + "=" + m.tags[i];
@@ -21,23 +23,29 @@ void write_vtk(const MeshResult& r, std::ostream& os) {
     os << title << "\nBINARY\nDATASET UNSTRUCTURED_GRID\n";
     os << "POINTS " << np << " double\n";
     for (size_t v = 0; v < np; ++v) {
-        put_be(os, m.x[v]);
-        put_be(os, m.y[v]);
+        const core::Vec2 p = any_point(m, v);
+        put_be(os, p.x);
+        put_be(os, p.y);
         put_be(os, 0.0);
     }
-    os << "\nCELLS " << nt + ne << ' ' << 4 * nt + 3 * ne << '\n';
-    for (const auto& t : m.triangles) {
-        put_be(os, std::int32_t{3});
-        for (auto v : t.v) put_be(os, static_cast<std::int32_t>(v));
+    os << "\nCELLS " << nt + ne << ' ' << static_cast<size_t>(tri_nodes + 1) * nt + static_cast<size_t>(edge_nodes + 1) * ne << '\n';
+    for (size_t t = 0; t < nt; ++t) {
+        put_be(os, tri_nodes);
+        if (quadratic) {
+            for (size_t v : six_nodes(m, t)) put_be(os, static_cast<std::int32_t>(v));
+        } else {
+            for (auto v : m.triangles[t].v) put_be(os, static_cast<std::int32_t>(v));
+        }
     }
     for (const auto& e : m.edges) {
-        put_be(os, std::int32_t{2});
+        put_be(os, edge_nodes);
         put_be(os, static_cast<std::int32_t>(e.a));
         put_be(os, static_cast<std::int32_t>(e.b));
+        if (quadratic) put_be(os, static_cast<std::int32_t>(edge_middle(m, e)));
     }
     os << "\nCELL_TYPES " << nt + ne << '\n';
-    for (size_t i = 0; i < nt; ++i) put_be(os, std::int32_t{5});
-    for (size_t i = 0; i < ne; ++i) put_be(os, std::int32_t{3});
+    for (size_t i = 0; i < nt; ++i) put_be(os, std::int32_t{quadratic ? 22 : 5});
+    for (size_t i = 0; i < ne; ++i) put_be(os, std::int32_t{quadratic ? 21 : 3});
     os << "\nCELL_DATA " << nt + ne << "\nSCALARS tag int 1\nLOOKUP_TABLE default\n";
     for (size_t i = 0; i < nt; ++i) put_be(os, std::int32_t{-1});
     for (const auto& e : m.edges) put_be(os, static_cast<std::int32_t>(e.tag));
@@ -45,7 +53,16 @@ void write_vtk(const MeshResult& r, std::ostream& os) {
     for (const auto& t : m.triangles) put_be(os, tri_quality(m, t));
     for (size_t i = 0; i < ne; ++i) put_be(os, 0.0);
     os << "\nPOINT_DATA " << np << "\nSCALARS target_size double 1\nLOOKUP_TABLE default\n";
-    for (size_t v = 0; v < np; ++v) put_be(os, v < m.target_size.size() ? m.target_size[v] : 0.0);
+    // An edge node's target size: its edge's ends' mean.
+    std::vector<double> mid_size(m.edge_nodes.size(), 0.0);
+    for (size_t t = 0; t < m.edge_node.size(); ++t)
+        for (size_t i = 0; i < 3; ++i) {
+            const auto a = m.triangles[t].v[(i + 1) % 3], b = m.triangles[t].v[(i + 2) % 3];
+            if (a < m.target_size.size() && b < m.target_size.size())
+                mid_size[m.edge_node[t][i]] = (m.target_size[a] + m.target_size[b]) / 2;
+        }
+    for (size_t v = 0; v < np; ++v)
+        put_be(os, v < m.point_count() ? (v < m.target_size.size() ? m.target_size[v] : 0.0) : mid_size[v - m.point_count()]);
     os << '\n';
 }
 

@@ -3,7 +3,7 @@
 /// back by any replica and written in whatever format is asked (every writer gives the same
 /// bytes from the decoded result as from the original).
 ///
-/// Layout (version 1): the magic "MESHDR01", then every field of core::MeshResult in a fixed
+/// Layout (version 2): the magic "MESHDR02", then every field of core::MeshResult in a fixed
 /// order, integers little-endian of fixed width, doubles as their IEEE bits, vectors as a
 /// 64-bit count then their elements, strings as a 64-bit length then their bytes. About 90
 /// bytes per point (29 for the point, 26 for each of its two triangles, 8 for its size).

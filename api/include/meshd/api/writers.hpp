@@ -19,6 +19,9 @@ inline constexpr Format kFormats[] = {Format::Json, Format::Vtk, Format::Su2, Fo
                                       Format::Svg,  Format::Foam, Format::Cgns};
 
 std::optional<Format> parse_format(std::string_view name);
+/// Why format `f` cannot hold a second-order mesh (su2, foam), or nothing. write_mesh throws
+/// std::invalid_argument with this text for an order-2 mesh; the server answers 422 first.
+std::optional<std::string> second_order_refusal(Format f);
 const char* format_name(Format f);
 /// Every format's name, joined by ", " (for messages).
 std::string format_list();
