@@ -23,8 +23,8 @@ from common import CUT_TO_HOLE, check, finish  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
 
-TRI_3, BAR_2 = 5, 3  # CGNS ElementType_t values
-VTK_TRIANGLE, VTK_LINE = 5, 3
+TRI_3, BAR_2, TRI_6, BAR_3 = 5, 3, 6, 4  # CGNS ElementType_t values
+VTK_TRIANGLE, VTK_LINE, VTK_QUADRATIC_TRIANGLE, VTK_QUADRATIC_EDGE = 5, 3, 22, 21
 
 
 def text(node):
@@ -54,6 +54,9 @@ def meshes(request, where, name):
 
 def check_case(request, where, name, embedded_tags, bc_types):
     mesh, path = meshes(request, where, name)
+    quadratic = mesh.get("order") == 2
+    tri_type, bar_type = (TRI_6, BAR_3) if quadratic else (TRI_3, BAR_2)
+    vtk_tri, vtk_line = (VTK_QUADRATIC_TRIANGLE, VTK_QUADRATIC_EDGE) if quadratic else (VTK_TRIANGLE, VTK_LINE)
     points = np.array(mesh["points"], dtype=float)
     loop_tags = [t for t in mesh["boundaries"] if t not in embedded_tags]
 
@@ -77,7 +80,7 @@ def check_case(request, where, name, embedded_tags, bc_types):
     if internal is not None:
         check(internal.GetNumberOfPoints() == len(points), f"{name}: {internal.GetNumberOfPoints()} points, JSON has {len(points)}")
         check(internal.GetNumberOfCells() == len(mesh["triangles"]), f"{name}: {internal.GetNumberOfCells()} triangles")
-        check(all(internal.GetCellType(i) == VTK_TRIANGLE for i in range(internal.GetNumberOfCells())), f"{name}: triangles only")
+        check(all(internal.GetCellType(i) == vtk_tri for i in range(internal.GetNumberOfCells())), f"{name}: triangles only")
         xy = np.array([internal.GetPoint(i)[:2] for i in range(internal.GetNumberOfPoints())])
         check(np.array_equal(xy, points), f"{name}: the coordinates are the JSON mesh's")
     patches = blocks.get("Patches")
@@ -85,11 +88,11 @@ def check_case(request, where, name, embedded_tags, bc_types):
     check(sorted(names) == sorted(loop_tags), f"{name}: patches {names}, loop tags {loop_tags}")
     for i, tag in enumerate(names):
         patch = patches.GetBlock(i)
-        expected = {tuple(sorted(map(tuple, points[[a, b]].tolist()))) for a, b in mesh["boundaries"].get(tag, [])}
+        expected = {tuple(sorted(map(tuple, points[list(e)].tolist()))) for e in mesh["boundaries"].get(tag, [])}
         got = set()
         for c in range(patch.GetNumberOfCells()):
             cell = patch.GetCell(c)
-            check(patch.GetCellType(c) == VTK_LINE, f"{name}: patch {tag} holds lines")
+            check(patch.GetCellType(c) == vtk_line, f"{name}: patch {tag} holds lines")
             ids = [cell.GetPointId(k) for k in range(cell.GetNumberOfPoints())]
             got.add(tuple(sorted(tuple(patch.GetPoint(k)[:2]) for k in ids)))
         check(got == expected, f"{name}: patch {tag} has its {len(expected)} edges ({len(got)} read)")
@@ -110,12 +113,12 @@ def check_case(request, where, name, embedded_tags, bc_types):
             ranges.append((lo, hi))
             conn = np.asarray(s["ElementConnectivity"][" data"]) - 1
             if sname == "Triangles":
-                check(kind == TRI_3, f"{name}: TRI_3 triangles")
-                check(np.array_equal(conn.reshape(-1, 3), np.array(mesh["triangles"])), f"{name}: the triangles of the JSON mesh")
+                check(kind == tri_type, f"{name}: triangles of type {tri_type}")
+                check(np.array_equal(conn.reshape(len(mesh["triangles"]), -1), np.array(mesh["triangles"])), f"{name}: the triangles of the JSON mesh")
             else:
-                check(kind == BAR_2, f"{name}: section {sname} is BAR_2")
+                check(kind == bar_type, f"{name}: section {sname} is of type {bar_type}")
                 check(sname in mesh["boundaries"] or sname.endswith("_embedded"), f"{name}: section {sname} is a tag")
-                edges = sorted(map(tuple, conn.reshape(-1, 2).tolist()))
+                edges = sorted(map(tuple, conn.reshape(-1, 3 if quadratic else 2).tolist()))
                 check(edges == sorted(map(tuple, mesh["boundaries"].get(sname, []))), f"{name}: section {sname} holds the tag's edges")
         ranges.sort()
         check(ranges[0][0] == 1 and all(b[0] == a[1] + 1 for a, b in zip(ranges, ranges[1:])), f"{name}: element ranges tile 1..n {ranges}")
@@ -141,5 +144,18 @@ with tempfile.TemporaryDirectory() as where:
     cut = json.loads(json.dumps(CUT_TO_HOLE))
     cut["options"] = {"patch_types": {"cylinder": "wall", "wall": "symmetryPlane"}}
     check_case(cut, where, "cut_to_hole", {"cut"}, {"cylinder": "BCWall", "wall": "BCSymmetryPlane"})
+
+    # Second order: 6-node triangles, the circles' edge nodes on the circles.
+    ring = {"geometry": {"points": {"O": [1, 0], "I": [0.5, 0]},
+                         "curves": {"outer": {"type": "arc", "from": "O", "to": "O", "center": [0, 0], "tag": "outer"},
+                                    "inner": {"type": "arc", "from": "I", "to": "I", "center": [0, 0], "tag": "inner"}},
+                         "loops": [["outer"], ["inner"]]},
+            "density": {"size": 0.15}, "options": {"order": 2, "patch_types": {"inner": "wall"}}}
+    check_case(ring, where, "annulus_order2", set(), {"inner": "BCWall"})
+    ring_mesh, _ = meshes(ring, where, "annulus_order2")
+    pts = np.array(ring_mesh["points"])
+    for tag, radius in (("outer", 1.0), ("inner", 0.5)):
+        middles = [e[2] for e in ring_mesh["boundaries"][tag]]
+        check(np.allclose(np.hypot(pts[middles, 0], pts[middles, 1]), radius, atol=1e-12), f"edge nodes of {tag} on its circle")
 
 finish("CGNS read back by cgnscheck, VTK and h5py")
