@@ -1,0 +1,125 @@
+#!/usr/bin/python3
+"""NACA 0012 at Re 6e6 with Spalart-Allmaras in OpenFOAM's simpleFoam, on meshd's foam output
+with no glue of the user's own: the request names the wall's patch type, meshd-cli writes
+constant/polyMesh, this script adds what any OpenFOAM case needs (fields, schemes, solver
+settings, a forceCoeffs function object) and runs simpleFoam. Prints Cl and Cd at each angle
+(a benchmark, minutes per angle; not a test).
+
+The mesh is isotropic (meshd has no boundary layers yet: issue 13), so the wall takes
+nutUSpaldingWallFunction; the far field is the example's circle of radius 20 chords.
+
+usage: bench/cfd/naca0012_sa.py [scale [angle ...]]   scale: the example's sizes times this
+(default 0.5); angles in degrees (default 0 4)"""
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import tarfile
+import tempfile
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+CLI = os.path.join(ROOT, "build", "cli", "meshd-cli")
+SCALE = float(sys.argv[1]) if len(sys.argv) > 1 else 0.5
+ANGLES = [float(a) for a in sys.argv[2:]] or [0.0, 4.0]
+NU = 1.0 / 6e6  # Re 6e6 with a chord of 1 and a speed of 1
+ITERATIONS = 3000
+
+
+def header(cls, obj):
+    return "FoamFile { version 2.0; format ascii; class %s; object %s; }\n" % (cls, obj)
+
+
+def case_files(u, thickness):
+    ux, uy = u
+    far_nut = 3 * NU
+    field = lambda dims, internal, wall, far: (  # noqa: E731
+        f"dimensions {dims}; internalField uniform {internal};\n"
+        f"boundaryField {{ wall {{ {wall} }} farfield {{ {far} }} frontAndBack {{ type empty; }} }}\n")
+    return {
+        "0/U": (header("volVectorField", "U") + field(
+            "[0 1 -1 0 0 0 0]", f"({ux} {uy} 0)", "type noSlip;",
+            f"type freestreamVelocity; freestreamValue uniform ({ux} {uy} 0);")),
+        "0/p": header("volScalarField", "p") + field(
+            "[0 2 -2 0 0 0 0]", "0", "type zeroGradient;", "type freestreamPressure; freestreamValue uniform 0;"),
+        "0/nuTilda": header("volScalarField", "nuTilda") + field(
+            "[0 2 -1 0 0 0 0]", f"{far_nut}", "type fixedValue; value uniform 0;",
+            f"type freestream; freestreamValue uniform {far_nut};"),
+        "0/nut": header("volScalarField", "nut") + field(
+            "[0 2 -1 0 0 0 0]", f"{far_nut}", "type nutUSpaldingWallFunction; value uniform 0;",
+            f"type freestream; freestreamValue uniform {far_nut};"),
+        "constant/transportProperties": header("dictionary", "transportProperties") +
+            f"transportModel Newtonian; nu [0 2 -1 0 0 0 0] {NU};\n",
+        "constant/turbulenceProperties": header("dictionary", "turbulenceProperties") +
+            "simulationType RAS; RAS { RASModel SpalartAllmaras; turbulence on; printCoeffs off; }\n",
+        "system/controlDict": header("dictionary", "controlDict") +
+            f"application simpleFoam; startFrom startTime; startTime 0; stopAt endTime; endTime {ITERATIONS};\n"
+            f"deltaT 1; writeControl timeStep; writeInterval {ITERATIONS}; writeFormat ascii;\n"
+            "functions { coeffs { type forceCoeffs; libs (\"libforces.so\"); writeControl timeStep; writeInterval 1;\n"
+            "  patches (wall); rho rhoInf; rhoInf 1; CofR (0.25 0 0);\n"
+            f"  liftDir ({-uy} {ux} 0); dragDir ({ux} {uy} 0); pitchAxis (0 0 1);\n"
+            f"  magUInf 1; lRef 1; Aref {thickness}; }}\n"
+            "  residuals { type solverInfo; libs (\"libutilityFunctionObjects.so\"); fields (p U nuTilda); } }\n",
+        "system/fvSchemes": header("dictionary", "fvSchemes") +
+            "ddtSchemes { default steadyState; } gradSchemes { default Gauss linear; grad(U) cellLimited Gauss linear 1; }\n"
+            "divSchemes { default none; div(phi,U) bounded Gauss linearUpwind grad(U);\n"
+            "  div(phi,nuTilda) bounded Gauss linearUpwind grad(nuTilda); div((nuEff*dev2(T(grad(U))))) Gauss linear; }\n"
+            "laplacianSchemes { default Gauss linear corrected; } interpolationSchemes { default linear; }\n"
+            "snGradSchemes { default corrected; } wallDist { method meshWave; }\n",
+        "system/fvSolution": header("dictionary", "fvSolution") +
+            "solvers { p { solver GAMG; smoother GaussSeidel; tolerance 1e-7; relTol 0.05; }\n"
+            "  \"(U|nuTilda)\" { solver smoothSolver; smoother GaussSeidel; nSweeps 2; tolerance 1e-8; relTol 0.1; } }\n"
+            "SIMPLE { nNonOrthogonalCorrectors 1; consistent yes;\n"
+            "  residualControl { p 1e-6; U 1e-7; nuTilda 1e-7; } }\n"
+            "relaxationFactors { equations { U 0.9; nuTilda 0.8; } fields { p 1; } }\n",
+    }
+
+
+def main():
+    with open(os.path.join(ROOT, "examples", "naca0012.json")) as f:
+        request = json.load(f)
+    request["density"]["size"] = f"{SCALE} * ({request['density']['size']})"
+    request.setdefault("options", {})["patch_types"] = {"wall": "wall"}
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        req = os.path.join(tmp, "naca.json")
+        with open(req, "w") as f:
+            json.dump(request, f)
+        archive = os.path.join(tmp, "naca.tar")
+        mesh = subprocess.run([CLI, req, "-o", archive, "--format", "foam"], capture_output=True, text=True, check=True).stderr.strip()
+        print("mesh:", mesh)
+        for angle in ANGLES:
+            case = os.path.join(tmp, f"alpha{angle:g}")
+            with tarfile.open(archive) as t:
+                t.extractall(case)
+            points = open(os.path.join(case, "constant/polyMesh/points")).read()
+            thickness = max(float(z) for z in re.findall(r"\(\S+ \S+ (\S+)\)", points))
+            a = math.radians(angle)
+            for path, body in case_files((math.cos(a), math.sin(a)), thickness).items():
+                os.makedirs(os.path.dirname(os.path.join(case, path)), exist_ok=True)
+                with open(os.path.join(case, path), "w") as f:
+                    f.write(body)
+            run = subprocess.run(["bash", "-c", "source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; simpleFoam -case '" + case + "'"],
+                                 capture_output=True, text=True)
+            log = run.stdout + run.stderr
+            coeffs = os.path.join(case, "postProcessing", "coeffs", "0", "coefficient.dat")
+            if run.returncode != 0 or not os.path.exists(coeffs):
+                print(log[-3000:])
+                sys.exit(f"simpleFoam failed at {angle} degrees")
+            # The function object's table: a header "# Time Cd Cs Cl ...", then a row per iteration.
+            lines = open(coeffs).read().splitlines()
+            names = [h for h in lines[[i for i, l in enumerate(lines) if l.startswith("#")][-1]].lstrip("#").split()]
+            last = [float(v) for v in lines[-1].split()]
+            value = dict(zip(names, last))
+            converged = "SIMPLE solution converged" in log
+            rows.append((angle, value["Cl"], value["Cd"], int(last[0]), converged))
+            print(f"alpha {angle:g}: Cl {value['Cl']:.4f}, Cd {value['Cd']:.5f} after {int(last[0])} iterations"
+                  f"{' (residuals met)' if converged else ''}", flush=True)
+    print("\n| alpha (deg) | Cl | Cd | iterations | residuals met |\n|---:|---:|---:|---:|---|")
+    for angle, cl, cd, it, converged in rows:
+        print(f"| {angle:g} | {cl:.4f} | {cd:.5f} | {it} | {'yes' if converged else 'no'} |")
+
+
+if __name__ == "__main__":
+    main()
