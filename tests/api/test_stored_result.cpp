@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "meshd/api/request.hpp"
@@ -136,4 +137,14 @@ TEST(SecondOrderFormats, Su2AndFoamRefuseWithTheReason) {
         EXPECT_THROW(written(f, a), std::invalid_argument) << name;
     }
     for (const char* name : {"json", "vtk", "msh", "cgns", "svg"}) EXPECT_FALSE(api::second_order_refusal(*api::parse_format(name))) << name;
+}
+
+// The SVG of a second-order mesh draws every edge as a quadratic Bezier through its edge node:
+// three per triangle, one per tagged edge.
+TEST(SecondOrderFormats, SvgDrawsCurvedEdges) {
+    api::MeshRequest req = api::parse_request(test::read_file(MESHD_SOURCE_DIR "/examples/naca0012.json"));
+    req.options.order = 2;
+    const core::MeshResult a = core::generate_mesh(req.geometry, req.density, req.options);
+    const std::string svg = written(api::Format::Svg, a);
+    EXPECT_EQ(static_cast<size_t>(std::count(svg.begin(), svg.end(), 'Q')), 3 * a.mesh.triangles.size() + a.mesh.edges.size());
 }

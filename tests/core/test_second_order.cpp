@@ -131,3 +131,23 @@ TEST(SecondOrder, OrderOneHasNoEdgeNodes) {
     EXPECT_EQ(res.mesh.order(), 1);
     EXPECT_TRUE(res.mesh.edge_nodes.empty());
 }
+
+// Order 2 after the min_angle_deg refinement (its new boundary points on their curves): the
+// edge nodes are made from the refined mesh.
+TEST(SecondOrder, AfterMinAngleRefinement) {
+    DensitySpec d;
+    d.size = 0.15;
+    MeshOptions o;
+    o.order = 2;
+    o.min_angle_deg = 30;
+    const MeshResult res = generate_mesh(square_with_hole(0.4), d, o);
+    const Mesh& m = res.mesh;
+    EXPECT_TRUE(check_mesh(m).empty());
+    expect_one_node_per_edge(m);
+    for (size_t k = 0; k < m.edges.size(); ++k)
+        if (m.tags[m.edges[k].tag] == "hole") {
+            const Vec2 p = m.edge_nodes[m.edge_node_of_edge[k]];
+            EXPECT_NEAR(std::hypot(p.x, p.y), 0.4, 1e-12) << "edge " << k;
+        }
+    for (TriangleId t = 0; t < m.triangles.size(); ++t) EXPECT_GE(min_scaled_jacobian(m, t), 0.1) << "triangle " << t;
+}

@@ -34,7 +34,20 @@ void write_svg(const MeshResult& r, std::ostream& os, std::optional<core::Box> v
        << Num(W) << "\" height=\"" << Num(H) << "\">\n<title>meshd: " << m.point_count() << " points, "
        << m.triangles.size() << " triangles</title>\n<g stroke=\"#333\" stroke-width=\"" << Num(stroke)
        << "\" stroke-linejoin=\"round\">\n";
-    for (const auto& t : m.triangles) {
+    // Second order: each edge a quadratic Bezier through its edge node (control point
+    // 2 node - (a + b) / 2), so curved boundaries are drawn curved.
+    const bool quadratic = m.order() == 2;
+    auto to = [&](core::VertexId from, core::VertexId end, size_t node) {
+        if (!quadratic) {
+            os << 'L' << X(m.x[end]) << ' ' << Y(m.y[end]);
+            return;
+        }
+        const core::Vec2 p = any_point(m, node);
+        os << 'Q' << X(2 * p.x - (m.x[from] + m.x[end]) / 2) << ' ' << Y(2 * p.y - (m.y[from] + m.y[end]) / 2) << ' '
+           << X(m.x[end]) << ' ' << Y(m.y[end]);
+    };
+    for (size_t ti = 0; ti < m.triangles.size(); ++ti) {
+        const auto& t = m.triangles[ti];
         if (!visible({t.v[0], t.v[1], t.v[2]})) continue;
         // Quality 0 -> red, 0.5 -> yellow, 1 -> pale green.
         const double q = tri_quality(m, t);
@@ -43,8 +56,12 @@ void write_svg(const MeshResult& r, std::ostream& os, std::optional<core::Box> v
         const int blue = q < 0.5 ? 60 : static_cast<int>(60 + (q - 0.5) * 2 * 130);
         char fill[8];
         std::snprintf(fill, sizeof fill, "#%02x%02x%02x", red, green, blue);
-        os << "<path fill=\"" << fill << "\" d=\"M" << X(m.x[t.v[0]]) << ' ' << Y(m.y[t.v[0]]) << 'L'
-           << X(m.x[t.v[1]]) << ' ' << Y(m.y[t.v[1]]) << 'L' << X(m.x[t.v[2]]) << ' ' << Y(m.y[t.v[2]]) << "Z\"/>\n";
+        os << "<path fill=\"" << fill << "\" d=\"M" << X(m.x[t.v[0]]) << ' ' << Y(m.y[t.v[0]]);
+        const auto six = quadratic ? six_nodes(m, ti) : std::array<size_t, 6>{};
+        to(t.v[0], t.v[1], six[3]);
+        to(t.v[1], t.v[2], six[4]);
+        if (quadratic) to(t.v[2], t.v[0], six[5]);  // a straight closing side is Z's own
+        os << "Z\"/>\n";
     }
     os << "</g>\n";
     static constexpr std::array<const char*, 8> kColours = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd",
@@ -54,7 +71,10 @@ void write_svg(const MeshResult& r, std::ostream& os, std::optional<core::Box> v
         os << "<g stroke=\"" << kColours[g % kColours.size()] << "\" stroke-width=\"" << Num(4 * stroke)
            << "\" fill=\"none\"><title>" << xml_escaped(m.tags[g]) << "</title>\n<path d=\"";
         for (const auto* e : groups[g])
-            if (visible({e->a, e->b})) os << 'M' << X(m.x[e->a]) << ' ' << Y(m.y[e->a]) << 'L' << X(m.x[e->b]) << ' ' << Y(m.y[e->b]);
+            if (visible({e->a, e->b})) {
+                os << 'M' << X(m.x[e->a]) << ' ' << Y(m.y[e->a]);
+                to(e->a, e->b, quadratic ? edge_middle(m, *e) : 0);
+            }
         os << "\"/></g>\n";
     }
     os << "</svg>\n";
