@@ -304,6 +304,8 @@ RedisStore::~RedisStore() {
     stop();
 }
 
+long long RedisStore::lease_ms() const { return std::max<long long>(1, std::llround(config_.lease_s * 1000)); }
+
 std::string RedisStore::ttl_ms() const {
     return std::to_string(std::max<long long>(1, std::llround(config_.job_ttl_s * 1000)));
 }
@@ -441,20 +443,20 @@ std::optional<JobInfo> info_from(const std::string& id, const redis::Reply& r, s
 
 }  // namespace
 
+std::vector<std::string> RedisStore::info_command(const std::string& id) const {
+    std::vector<std::string> cmd{"HMGET", key("job", id)};
+    cmd.insert(cmd.end(), kInfoFields.begin(), kInfoFields.end());
+    return cmd;
+}
+
 std::optional<JobInfo> RedisStore::info(const std::string& id) {
-    return with_store("status", [&](redis::Connection& c) {
-        std::vector<std::string> cmd{"HMGET", key("job", id)};
-        cmd.insert(cmd.end(), kInfoFields.begin(), kInfoFields.end());
-        return info_from(id, c.command(cmd));
-    });
+    return with_store("status", [&](redis::Connection& c) { return info_from(id, c.command(info_command(id))); });
 }
 
 std::optional<JobMesh> RedisStore::mesh(const std::string& id) {
     return with_store("mesh", [&](redis::Connection& c) -> std::optional<JobMesh> {
-        std::vector<std::string> cmd{"HMGET", key("job", id)};
-        cmd.insert(cmd.end(), kInfoFields.begin(), kInfoFields.end());
         std::string foam;
-        auto i = info_from(id, c.command(cmd), &foam);
+        auto i = info_from(id, c.command(info_command(id)), &foam);
         if (!i) return std::nullopt;
         JobMesh out;
         out.info = *i;
@@ -533,7 +535,7 @@ size_t RedisStore::kept() {
 // ---- claiming (the claimer thread) ----
 
 void RedisStore::claim_loop() {
-    redis::Connection c(endpoint_, std::chrono::milliseconds(std::max<long long>(2000, std::llround(config_.lease_s * 1000))));
+    redis::Connection c(endpoint_, std::chrono::milliseconds(std::max<long long>(2000, lease_ms())));
     auto backoff = std::chrono::milliseconds(100);
     auto next_sweep = Clock::now();
     while (claiming_ && !stopping_) {
@@ -575,7 +577,7 @@ void RedisStore::forget_dead_consumers(redis::Connection& c) {
     // Every replica that ever ran left a consumer in the group; those holding nothing and
     // silent for long are dropped (a live one that was only quiet is made again by its next
     // read, with nothing lost: it held nothing).
-    const long long quiet_ms = std::max<long long>(600'000, std::llround(config_.lease_s * 10'000));
+    const long long quiet_ms = std::max<long long>(600'000, 10 * lease_ms());
     const redis::Reply r = c.command({"XINFO", "CONSUMERS", key("queue"), kGroup});
     if (r.kind != redis::Reply::Kind::Array) return;
     for (const redis::Reply& consumer : r.elements) {
@@ -595,12 +597,12 @@ void RedisStore::forget_dead_consumers(redis::Connection& c) {
 }
 
 bool RedisStore::claim_one(redis::Connection& c) {
-    const auto lease_ms = std::to_string(std::max<long long>(1, std::llround(config_.lease_s * 1000)));
+    const std::string lease = std::to_string(lease_ms());
     // First an entry whose replica stopped renewing its lease (or handed it back).
     // The scan goes on from where the last one ended (each looks at a few entries), so
     // that every pending entry is looked at in turn.
     const redis::Reply ac =
-        c.command({"XAUTOCLAIM", key("queue"), kGroup, consumer_, lease_ms, autoclaim_cursor_, "COUNT", "1"});
+        c.command({"XAUTOCLAIM", key("queue"), kGroup, consumer_, lease, autoclaim_cursor_, "COUNT", "1"});
     if (ac.is_error()) throw std::runtime_error("XAUTOCLAIM: " + ac.str);
     if (!ac.elements.empty()) autoclaim_cursor_ = ac.elements[0].str.empty() ? "0-0" : ac.elements[0].str;
     if (ac.elements.size() >= 2) {
@@ -687,7 +689,7 @@ void RedisStore::hand_back(redis::Connection& c, const std::string& id, const st
 void RedisStore::heartbeat_loop() {
     redis::Connection c(endpoint_, std::chrono::milliseconds(2000));
     // Several beats per lease, and at least three a second for cancellation.
-    const auto period = std::chrono::milliseconds(std::clamp<long long>(std::llround(config_.lease_s * 1000 / 4), 20, 300));
+    const auto period = std::chrono::milliseconds(std::clamp<long long>(lease_ms() / 4, 20, 300));
     while (!stopping_) {
         std::vector<std::pair<std::string, InFlight>> jobs;
         {

@@ -119,6 +119,9 @@ private:
     redis::Reply eval_on(redis::Connection& c, const std::string& script, const std::string& first_key,
                          const std::vector<std::string>& args);
     std::string ttl_ms() const;
+    long long lease_ms() const;
+    /// HMGET of the fields a job's status and mesh answers read.
+    std::vector<std::string> info_command(const std::string& id) const;
     std::string key(const std::string& kind, const std::string& id = {}) const;
     /// Sleeps up to `d` unless the store stops meanwhile.
     void pause(std::chrono::milliseconds d);

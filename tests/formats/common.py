@@ -38,6 +38,22 @@ CUT_TO_HOLE = {
     "density": {"size": 0.08}}
 
 
+def dolfinx_mesh(msh):
+    """An MSH file loaded into dolfinx as a FEniCS user loads a gmsh model (through gmsh and
+    gmshio.model_to_mesh): (mesh, facet tags, physical names of the curves by tag)."""
+    import gmsh
+    from dolfinx.io import gmshio
+    from mpi4py import MPI
+
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.open(msh)
+    names = {t: gmsh.model.getPhysicalName(1, t) for _, t in gmsh.model.getPhysicalGroups(1)}
+    mesh, _, facets = gmshio.model_to_mesh(gmsh.model, MPI.COMM_WORLD, 0, gdim=2)
+    gmsh.finalize()
+    return mesh, facets, names
+
+
 def write_cut_to_hole(directory):
     """CUT_TO_HOLE as a request file in `directory`; its path."""
     path = os.path.join(directory, "cut.json")

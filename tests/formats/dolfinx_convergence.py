@@ -15,17 +15,13 @@ import subprocess
 import sys
 import tempfile
 
-import gmsh
-import numpy as np
 import ufl
 from dolfinx import fem
 from dolfinx.fem import petsc as fem_petsc
-from dolfinx.io import gmshio
-from mpi4py import MPI
 from petsc4py import PETSc
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import check, finish  # noqa: E402
+from common import check, dolfinx_mesh, finish  # noqa: E402
 
 cli = sys.argv[1]
 R_IN, R_OUT = 0.5, 1.0
@@ -41,12 +37,7 @@ def annulus(size, order):
 
 
 def errors(msh, degree):
-    gmsh.initialize()
-    gmsh.option.setNumber("General.Terminal", 0)
-    gmsh.open(msh)
-    names = {t: gmsh.model.getPhysicalName(1, t) for _, t in gmsh.model.getPhysicalGroups(1)}
-    mesh, _, facets = gmshio.model_to_mesh(gmsh.model, MPI.COMM_WORLD, 0, gdim=2)
-    gmsh.finalize()
+    mesh, facets, names = dolfinx_mesh(msh)
     V = fem.FunctionSpace(mesh, ("CG", degree))
     x = ufl.SpatialCoordinate(mesh)
     exact = ufl.ln(ufl.sqrt(x[0] ** 2 + x[1] ** 2))

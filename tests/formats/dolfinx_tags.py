@@ -10,13 +10,10 @@ import subprocess
 import sys
 import tempfile
 
-import gmsh
 import numpy as np
-from dolfinx.io import gmshio
-from mpi4py import MPI
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import check, finish, write_cut_to_hole  # noqa: E402
+from common import check, dolfinx_mesh, finish, write_cut_to_hole  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
 def edge_key(p, q):
@@ -27,12 +24,7 @@ def edge_key(p, q):
 def compare(msh, answer, name):
     ref = json.load(open(answer))["mesh"]
     pts = np.array(ref["points"])
-    gmsh.initialize()
-    gmsh.option.setNumber("General.Terminal", 0)
-    gmsh.open(msh)
-    names = {t: gmsh.model.getPhysicalName(1, t) for _, t in gmsh.model.getPhysicalGroups(1)}
-    mesh, _, facet_tags = gmshio.model_to_mesh(gmsh.model, MPI.COMM_WORLD, 0, gdim=2)
-    gmsh.finalize()
+    mesh, facet_tags, names = dolfinx_mesh(msh)
     check(mesh.topology.index_map(0).size_local == len(pts), f"{name}: points")
     check(mesh.topology.index_map(2).size_local == len(ref["triangles"]), f"{name}: triangles")
     # Facet -> vertices -> geometry nodes (their coordinates), through the cells.

@@ -113,20 +113,18 @@ void write_file(const Mesh& m, const std::string& path, const FoamOptions& optio
          "triangles");
 
     // Names within 32 characters, apart from each other and from the sections above.
-    const std::vector<std::string> names = tag_names(
-        m.tags, [](char ch) { return ch != '/' && ch != '.'; }, {"Triangles"});
-    std::vector<std::string> short_names;
     std::set<std::string> taken{"Triangles"};
-    for (const std::string& n : names) {
-        std::string base_name = n.substr(0, kCgnsName);
-        std::string name = base_name;
+    auto fit = [&](const std::string& stem, const std::string& suffix) {
+        std::string name = stem.substr(0, kCgnsName - suffix.size()) + suffix;
         for (int k = 2; taken.count(name); ++k) {
-            const std::string suffix = "_" + std::to_string(k);
-            name = base_name.substr(0, kCgnsName - suffix.size()) + suffix;
+            const std::string more = suffix + "_" + std::to_string(k);
+            name = stem.substr(0, kCgnsName - more.size()) + more;
         }
         taken.insert(name);
-        short_names.push_back(name);
-    }
+        return name;
+    };
+    std::vector<std::string> short_names;
+    for (const std::string& n : tag_names(m.tags, [](char ch) { return ch != '/' && ch != '.'; })) short_names.push_back(fit(n, ""));
 
     cgsize_t next = static_cast<cgsize_t>(nt) + 1;
     const auto groups = edges_by_tag(m);
@@ -141,13 +139,7 @@ void write_file(const Mesh& m, const std::string& path, const FoamOptions& optio
             const bool both = !embedded ? false
                                         : std::any_of(groups[tag].begin(), groups[tag].end(),
                                                       [](const core::MeshEdge* e) { return !e->embedded; });
-            std::string name = short_names[tag];
-            if (both) {
-                const std::string suffix = "_embedded";
-                name = name.substr(0, kCgnsName - suffix.size()) + suffix;
-                for (int k = 2; taken.count(name); ++k) name = name.substr(0, kCgnsName - 3) + "_" + std::to_string(k);
-                taken.insert(name);
-            }
+            const std::string name = both ? fit(short_names[tag], "_embedded") : short_names[tag];
             conn.clear();
             for (const core::MeshEdge* e : edges) {
                 conn.push_back(static_cast<cgsize_t>(e->a) + 1);
