@@ -1,6 +1,6 @@
 // meshd-cli: meshes a request file offline, with the same core and api as the server.
 //
-//   meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|svg] [--view X0,Y0,X1,Y1] [--quiet]
+//   meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|cgns|foam|svg] [--view X0,Y0,X1,Y1] [--quiet]
 //
 // The format comes from --format, else from the extension of OUT, else json. Without -o the
 // mesh goes to standard output. Metrics and, on a terminal, a progress bar go to stderr.
@@ -27,7 +27,7 @@ using namespace meshd;
 
 void usage() {
     std::fprintf(stderr,
-                 "usage: meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|svg] [--view X0,Y0,X1,Y1] [--quiet]\n"
+                 "usage: meshd-cli REQUEST.json [-o OUT] [--format json|vtk|su2|msh|cgns|foam|svg] [--view X0,Y0,X1,Y1] [--quiet]\n"
                  "Meshes the request (see docs/api.md) and writes the mesh; '-' reads standard input.\n"
                  "--view draws only that window of the plane (svg).\n");
 }
