@@ -180,6 +180,14 @@ json metrics() {
                 {"maxItems", 10}}}}}}},
           {"size_ratio",
            {{"type", "object"}, {"properties", {{"mean", number()}, {"within_sqrt2", number()}}}}},
+          {"curved",
+           {{"type", "object"},
+            {"description", "order 2 only: curve edges with their node on the curve, those left straight so "
+                            "that no triangle folds, the smallest scaled Jacobian of any triangle"},
+            {"properties",
+             {{"edges", {{"type", "integer"}}},
+              {"straightened", {{"type", "integer"}}},
+              {"scaled_jacobian_min", number()}}}}},
           {"timings_ms", {{"type", "object"}, {"additionalProperties", number()}}},
           {"predicates_exact",
            {{"type", "object"}, {"additionalProperties", {{"type", "integer"}}}}}}}};

@@ -8,7 +8,7 @@ namespace meshd::api {
 
 namespace {
 
-constexpr std::string_view kMagic = "MESHDR02";
+constexpr std::string_view kMagic = "MESHDR03";
 
 class Writer {
 public:
@@ -136,6 +136,9 @@ std::string encode_result(const core::MeshResult& r) {
     for (std::uint64_t v : q.quality_histogram) w.u64(v);
     w.f64(q.size_ratio_mean);
     w.f64(q.size_ratio_within_sqrt2);
+    w.u64(q.curved_edges);
+    w.u64(q.straightened_edges);
+    w.f64(q.scaled_jacobian_min);
 
     const core::StageTimings& t = r.timings;
     for (double v : {t.boundary_ms, t.interior_ms, t.triangulation_ms, t.smoothing_ms, t.total_ms}) w.f64(v);
@@ -151,7 +154,7 @@ std::string encode_result(const core::MeshResult& r) {
 }
 
 core::MeshResult decode_result(std::string_view bytes) {
-    if (bytes.substr(0, kMagic.size()) != kMagic) throw StoredResultError("stored result: not a meshd result of version 1");
+    if (bytes.substr(0, kMagic.size()) != kMagic) throw StoredResultError("stored result: not a meshd result of this version");
     Reader rd(bytes.substr(kMagic.size()));
     core::MeshResult r;
     core::Mesh& m = r.mesh;
@@ -240,6 +243,9 @@ core::MeshResult decode_result(std::string_view bytes) {
     for (std::uint64_t& v : q.quality_histogram) v = rd.u64();
     q.size_ratio_mean = rd.f64();
     q.size_ratio_within_sqrt2 = rd.f64();
+    q.curved_edges = rd.u64();
+    q.straightened_edges = rd.u64();
+    q.scaled_jacobian_min = rd.f64();
 
     core::StageTimings& t = r.timings;
     for (double* v : {&t.boundary_ms, &t.interior_ms, &t.triangulation_ms, &t.smoothing_ms, &t.total_ms}) *v = rd.f64();

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "meshd/api/request.hpp"
@@ -73,6 +74,7 @@ TEST(StoredResult, DecodedIsTheSameResultInEveryField) {
     EXPECT_EQ(a.timings.total_ms, b.timings.total_ms);
     EXPECT_EQ(a.stats.forecast_points, b.stats.forecast_points);
     EXPECT_EQ(a.stats.incircle_exact, b.stats.incircle_exact);
+    EXPECT_EQ(a.quality.scaled_jacobian_min, b.quality.scaled_jacobian_min);
     // Every field above, and the metrics object, through the writers: the same bytes.
     EXPECT_EQ(api::metrics_json(a), api::metrics_json(b));
     for (const char* name : {"json", "vtk", "su2", "msh", "svg", "foam"}) {
@@ -86,9 +88,10 @@ TEST(StoredResult, DecodedIsTheSameResultInEveryField) {
 TEST(StoredResult, BytesThatAreNotOneAreRefused) {
     const std::string bytes = api::encode_result(naca());
     EXPECT_THROW(api::decode_result(""), api::StoredResultError);
-    // A result of the previous version (no edge nodes) is refused: a store read as expired.
-    EXPECT_THROW(api::decode_result("MESHDR01" + bytes.substr(8)), api::StoredResultError);
-    EXPECT_THROW(api::decode_result("MESHDR03" + bytes.substr(8)), api::StoredResultError);
+    // Results of earlier versions (no edge nodes; no curved-edge figures) and of a later one
+    // are refused: a store reads them as expired.
+    for (const char* other : {"MESHDR01", "MESHDR02", "MESHDR04"})
+        EXPECT_THROW(api::decode_result(other + bytes.substr(8)), api::StoredResultError) << other;
     EXPECT_THROW(api::decode_result(bytes + "x"), api::StoredResultError);
     // Cut anywhere: refused, never read past the end (the sanitizer build checks).
     for (size_t cut = 0; cut < bytes.size(); cut += 1 + bytes.size() / 97)
@@ -124,6 +127,14 @@ TEST(StoredResult, ASecondOrderMeshKeepsItsEdgeNodes) {
         const api::Format f = *api::parse_format(name);
         EXPECT_EQ(written(f, a), written(f, b)) << name;
     }
+    // The JSON metrics report the curved edges: the airfoil and the far field are curves, so
+    // every boundary edge has its node on one, and no triangle folds.
+    const auto metrics = nlohmann::json::parse(written(api::Format::Json, b))["metrics"];
+    ASSERT_TRUE(metrics.contains("curved"));
+    EXPECT_EQ(metrics["curved"]["edges"].get<size_t>() + metrics["curved"]["straightened"].get<size_t>(),
+              a.mesh.edges.size());
+    EXPECT_GE(metrics["curved"]["scaled_jacobian_min"].get<double>(), 0.1);
+    EXPECT_FALSE(nlohmann::json::parse(written(api::Format::Json, naca()))["metrics"].contains("curved"));
 }
 
 // su2 and foam cannot hold 6-node triangles: writing one is refused with the reason.

@@ -20,6 +20,10 @@ std::string metrics_json(const MeshResult& r) {
     j["angle_deg"] = {{"min", q.angle_min}, {"max", q.angle_max}, {"mean", q.angle_mean}};
     j["quality"] = {{"min", q.quality_min}, {"mean", q.quality_mean}, {"histogram", q.quality_histogram}};
     j["size_ratio"] = {{"mean", q.size_ratio_mean}, {"within_sqrt2", q.size_ratio_within_sqrt2}};
+    if (r.mesh.order() == 2)
+        j["curved"] = {{"edges", q.curved_edges},
+                       {"straightened", q.straightened_edges},
+                       {"scaled_jacobian_min", q.scaled_jacobian_min}};
     j["timings_ms"] = {{"boundary", r.timings.boundary_ms},
                        {"interior", r.timings.interior_ms},
                        {"triangulation", r.timings.triangulation_ms},

@@ -163,10 +163,16 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             refine_min_angle(m, domain, rho, options.min_angle_deg, options.max_points, observer);
     r.timings.smoothing_ms = ms_since(t0);
 
-    if (options.order == 2) r.stats.straightened_edges = add_edge_nodes(m, domain);
+    EdgeNodeCounts edge_nodes;
+    if (options.order == 2) edge_nodes = add_edge_nodes(m, domain);
 
     begin(Stage::Quality);
     r.quality = measure_quality(m, rho);
+    r.quality.curved_edges = edge_nodes.curved;
+    r.quality.straightened_edges = edge_nodes.straightened;
+    if (m.order() == 2)
+        for (TriangleId t = 0; t < m.triangles.size(); ++t)
+            r.quality.scaled_jacobian_min = std::min(r.quality.scaled_jacobian_min, min_scaled_jacobian(m, t));
     m.target_size.resize(m.point_count());
     for (VertexId v = 0; v < m.point_count(); ++v) m.target_size[v] = rho.interior(m.point(v));
     r.timings.total_ms = ms_since(t_start);

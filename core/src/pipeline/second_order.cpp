@@ -69,7 +69,7 @@ double min_scaled_jacobian(const Mesh& m, TriangleId t) {
     return lowest;
 }
 
-std::uint64_t add_edge_nodes(Mesh& m, const Domain& domain) {
+EdgeNodeCounts add_edge_nodes(Mesh& m, const Domain& domain) {
     std::unordered_map<std::uint64_t, std::uint32_t> curve_edge;  // constrained edge -> index in m.edges
     curve_edge.reserve(m.edges.size() * 2);
     for (std::uint32_t k = 0; k < m.edges.size(); ++k) curve_edge.emplace(edge_key(m.edges[k].a, m.edges[k].b), k);
@@ -116,7 +116,7 @@ std::uint64_t add_edge_nodes(Mesh& m, const Domain& domain) {
 
     // Curved triangles that the curve would fold (a thin layer by a strongly curved wall):
     // their curve nodes go back to the chords.
-    std::uint64_t straightened = 0;
+    EdgeNodeCounts counts;
     for (TriangleId t = 0; t < m.triangles.size(); ++t) {
         const auto& e = m.edge_node[t];
         if (!curved[e[0]] && !curved[e[1]] && !curved[e[2]]) continue;
@@ -126,10 +126,11 @@ std::uint64_t add_edge_nodes(Mesh& m, const Domain& domain) {
             if (!curved[e[i]]) continue;
             m.edge_nodes[e[i]] = chord_middle(m, tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]);
             curved[e[i]] = 0;
-            ++straightened;
+            ++counts.straightened;
         }
     }
-    return straightened;
+    for (std::uint8_t c : curved) counts.curved += c;
+    return counts;
 }
 
 }  // namespace meshd::core

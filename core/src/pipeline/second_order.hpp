@@ -8,10 +8,14 @@
 
 namespace meshd::core {
 
+struct EdgeNodeCounts {
+    std::uint64_t curved = 0;        ///< curve edges whose middle node lies on their curve
+    std::uint64_t straightened = 0;  ///< curve edges left straight: the curve would fold a triangle
+};
+
 /// Fills mesh.edge_nodes, edge_node and edge_node_of_edge. A curve edge whose curved node
-/// would fold its triangle (or either triangle, inside the domain) is left straight; returns
-/// how many were.
-std::uint64_t add_edge_nodes(Mesh& mesh, const Domain& domain);
+/// would fold its triangle (or either triangle, inside the domain) is left straight.
+EdgeNodeCounts add_edge_nodes(Mesh& mesh, const Domain& domain);
 
 /// The Jacobian determinant of the 6-node triangle t's map from the reference triangle, at
 /// its three corners and three edge nodes, over twice the straight triangle's area (1 for a

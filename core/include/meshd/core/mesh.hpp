@@ -104,6 +104,11 @@ struct QualityMetrics {
     /// Edge length / rho at the edge's midpoint, over all edges.
     double size_ratio_mean = 0;
     double size_ratio_within_sqrt2 = 0;  ///< fraction with a ratio in [1/sqrt 2, sqrt 2]
+    /// Order 2 only: boundary and embedded edges whose middle node lies on their curve, those
+    /// left straight because the curve would have folded a triangle, and the smallest scaled
+    /// Jacobian of any triangle (at its six nodes; 1 for a straight one).
+    std::uint64_t curved_edges = 0, straightened_edges = 0;
+    double scaled_jacobian_min = 1.0;
 };
 
 /// Radius ratio 2 r_in / r_circ of a triangle: 1 when equilateral, 0 when degenerate.

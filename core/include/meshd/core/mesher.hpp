@@ -101,9 +101,6 @@ struct MeshStats {
     TriangulationStats triangulation;
     std::uint64_t smoothing_moves = 0, smoothing_flips = 0;
     std::uint64_t refinement_points = 0;
-    /// Order 2: curve edges left straight because their curved node would have folded the
-    /// triangle (a Jacobian not positive at a node).
-    std::uint64_t straightened_edges = 0;
     /// Predicate calls the floating-point filter could not settle (exact stage).
     std::uint64_t orient_exact = 0, incircle_exact = 0;
 };
