@@ -40,6 +40,7 @@ std::string pointer_of(const core::Subject& s) {
         case K::Loop: p = "/geometry/loops/" + std::to_string(s.index); break;
         case K::Embedded: p = "/geometry/embedded/" + std::to_string(s.index); break;
         case K::Density: p = "/density/" + pointer_token(s.name); break;
+        case K::Layers: p = "/boundary_layers/" + std::to_string(s.index); break;
     }
     for (const std::string& f : s.field) p += "/" + pointer_token(f);
     return p;

@@ -407,6 +407,47 @@ void options(const json& o, MeshRequest& r) {
     }
 }
 
+void boundary_layers(const json& b, MeshRequest& r) {
+    const std::string ptr = "/boundary_layers";
+    if (!b.is_array()) fail(ptr, std::string("expected an array of layer entries, got ") + type_name(b), "wrong-type");
+    if (b.size() > 100) fail(ptr, "at most 100 boundary layer entries");
+    for (size_t i = 0; i < b.size(); ++i) {
+        const std::string at = ptr + "/" + std::to_string(i);
+        const json& e = b[i];
+        expect_object(e, at, {"curves", "first_height", "growth", "layers", "thickness", "cells"});
+        core::BoundaryLayerSpec s;
+        if (!e.contains("curves")) fail(at + "/curves", "a layer entry needs \"curves\"", "missing-field");
+        const json& c = e["curves"];
+        if (!c.is_array() || c.empty())
+            fail(at + "/curves", "expected a non-empty array of curve names or tags", "wrong-type");
+        for (size_t k = 0; k < c.size(); ++k) s.curves.push_back(string(c[k], at + "/curves/" + std::to_string(k)));
+        if (!e.contains("first_height"))
+            fail(at + "/first_height", "a layer entry needs \"first_height\"", "missing-field");
+        s.first_height = number(e["first_height"], at + "/first_height");
+        if (!(s.first_height > 0.0) || s.first_height > 1e30)
+            fail(at + "/first_height", "first_height must be positive and at most 1e30");
+        if (e.contains("growth")) {
+            s.growth = number(e["growth"], at + "/growth");
+            if (!(s.growth >= 1.0 && s.growth <= 5.0)) fail(at + "/growth", "growth must be between 1 and 5");
+        }
+        if (e.contains("layers") == e.contains("thickness"))
+            fail(at, "a layer entry needs one of \"layers\" and \"thickness\"", "missing-field");
+        if (e.contains("layers"))
+            s.layers = static_cast<int>(integer(e["layers"], at + "/layers", 1, core::kMaxLayers));
+        if (e.contains("thickness")) {
+            s.thickness = number(e["thickness"], at + "/thickness");
+            if (!(s.thickness > 0.0) || s.thickness > 1e30)
+                fail(at + "/thickness", "thickness must be positive and at most 1e30");
+        }
+        if (e.contains("cells")) {
+            const std::string cells = string(e["cells"], at + "/cells");
+            if (cells != "quads" && cells != "triangles") fail(at + "/cells", "cells must be \"quads\" or \"triangles\"");
+            s.quads = cells == "quads";
+        }
+        r.options.boundary_layers.push_back(std::move(s));
+    }
+}
+
 // Depth of nesting, outside strings: refuse deep documents before the parser sees them.
 int nesting_depth(std::string_view s) {
     int depth = 0, worst = 0;
@@ -448,12 +489,13 @@ MeshRequest parse_request(std::string_view body) {
                           "the name \"" + names.name() + "\" occurs twice in one object",
                           *where);
     MeshRequest r;
-    expect_object(j, "", {"geometry", "density", "options"});
+    expect_object(j, "", {"geometry", "density", "options", "boundary_layers"});
     if (!j.contains("geometry")) fail("/geometry", "the request needs \"geometry\"", "missing-field");
     if (!j.contains("density")) fail("/density", "the request needs \"density\"", "missing-field");
     geometry(j["geometry"], names, r.geometry);
     density(j["density"], names, r.density);
     if (j.contains("options")) options(j["options"], r);
+    if (j.contains("boundary_layers")) boundary_layers(j["boundary_layers"], r);
     return r;
 }
 

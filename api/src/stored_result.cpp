@@ -1,5 +1,6 @@
 #include "meshd/api/stored_result.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -94,7 +95,11 @@ std::string encode_result(const core::MeshResult& r) {
         for (auto n : t.n) w.u32(n);
         w.u8(t.constrained);
         w.u8(t.boundary);
+        w.u8(t.layer);
     }
+    w.u64(m.quads.size());
+    for (const auto& q : m.quads)
+        for (auto v : q) w.u32(v);
     w.u64(m.edges.size());
     for (const core::MeshEdge& e : m.edges) {
         w.u32(e.a);
@@ -139,6 +144,20 @@ std::string encode_result(const core::MeshResult& r) {
     w.u64(q.curved_edges);
     w.u64(q.straightened_edges);
     w.f64(q.scaled_jacobian_min);
+    w.u64(q.quads);
+    w.u64(q.boundary_layers.size());
+    for (const auto& l : q.boundary_layers) {
+        w.u64(static_cast<std::uint64_t>(l.layers_min));
+        w.u64(static_cast<std::uint64_t>(l.layers_max));
+        for (double v : {l.first_height_min, l.first_height_max, l.aspect_ratio_max, l.scaled_jacobian_min}) w.f64(v);
+        w.u64(l.columns);
+        w.u64(l.cut_back);
+        w.u64(l.cut_back_at.size());
+        for (const core::Vec2& p : l.cut_back_at) {
+            w.f64(p.x);
+            w.f64(p.y);
+        }
+    }
 
     const core::StageTimings& t = r.timings;
     for (double v : {t.boundary_ms, t.interior_ms, t.triangulation_ms, t.smoothing_ms, t.total_ms}) w.f64(v);
@@ -168,14 +187,14 @@ core::MeshResult decode_result(std::string_view bytes) {
         m.x[i] = rd.f64();
         m.y[i] = rd.f64();
         const std::uint8_t kind = rd.u8();
-        if (kind > static_cast<std::uint8_t>(core::PointKind::Interior)) throw StoredResultError("stored result: a point of no known kind");
+        if (kind > static_cast<std::uint8_t>(core::PointKind::Layer)) throw StoredResultError("stored result: a point of no known kind");
         m.kind[i] = static_cast<core::PointKind>(kind);
         m.curve[i] = rd.u32();
         m.param[i] = rd.f64();
     }
     m.target_size.resize(rd.count(8));
     for (double& v : m.target_size) v = rd.f64();
-    m.triangles.resize(rd.count(26));
+    m.triangles.resize(rd.count(27));
     for (core::Triangle& t : m.triangles) {
         for (auto& v : t.v) {
             v = rd.u32();
@@ -184,7 +203,14 @@ core::MeshResult decode_result(std::string_view bytes) {
         for (auto& n : t.n) n = rd.u32();
         t.constrained = rd.u8();
         t.boundary = rd.u8();
+        t.layer = rd.u8();
     }
+    m.quads.resize(rd.count(16));
+    for (auto& q : m.quads)
+        for (auto& v : q) {
+            v = rd.u32();
+            if (v >= np) throw StoredResultError("stored result: a quad names a point it does not hold");
+        }
     for (const core::Triangle& t : m.triangles)
         for (auto n : t.n)
             if (n != core::kNoTriangle && n >= m.triangles.size())
@@ -246,6 +272,20 @@ core::MeshResult decode_result(std::string_view bytes) {
     q.curved_edges = rd.u64();
     q.straightened_edges = rd.u64();
     q.scaled_jacobian_min = rd.f64();
+    q.quads = static_cast<size_t>(rd.u64());
+    q.boundary_layers.resize(rd.count(64));
+    for (auto& l : q.boundary_layers) {
+        l.layers_min = static_cast<int>(std::min<std::uint64_t>(rd.u64(), core::kMaxLayers));
+        l.layers_max = static_cast<int>(std::min<std::uint64_t>(rd.u64(), core::kMaxLayers));
+        for (double* v : {&l.first_height_min, &l.first_height_max, &l.aspect_ratio_max, &l.scaled_jacobian_min}) *v = rd.f64();
+        l.columns = rd.u64();
+        l.cut_back = rd.u64();
+        l.cut_back_at.resize(rd.count(16));
+        for (core::Vec2& p : l.cut_back_at) {
+            p.x = rd.f64();
+            p.y = rd.f64();
+        }
+    }
 
     core::StageTimings& t = r.timings;
     for (double* v : {&t.boundary_ms, &t.interior_ms, &t.triangulation_ms, &t.smoothing_ms, &t.total_ms}) *v = rd.f64();

@@ -159,3 +159,30 @@ TEST(SecondOrderFormats, SvgDrawsCurvedEdges) {
     const std::string svg = written(api::Format::Svg, a);
     EXPECT_EQ(static_cast<size_t>(std::count(svg.begin(), svg.end(), 'Q')), 3 * a.mesh.triangles.size() + a.mesh.edges.size());
 }
+
+// A mesh with boundary layers keeps its quads, its layer triangles and its layer figures: the
+// same files (every format) and metrics after the round trip.
+TEST(StoredResult, AMeshWithBoundaryLayersKeepsItsQuads) {
+    api::MeshRequest req = api::parse_request(test::read_file(MESHD_SOURCE_DIR "/examples/naca0012.json"));
+    core::BoundaryLayerSpec s;
+    s.curves = {"wing"};
+    s.first_height = 1e-4;
+    s.layers = 12;
+    req.options.boundary_layers = {s};
+    const core::MeshResult a = core::generate_mesh(req.geometry, req.density, req.options);
+    ASSERT_FALSE(a.mesh.quads.empty());
+    const core::MeshResult b = api::decode_result(api::encode_result(a));
+    EXPECT_EQ(a.mesh.quads, b.mesh.quads);
+    ASSERT_EQ(a.mesh.triangles.size(), b.mesh.triangles.size());
+    for (size_t t = 0; t < a.mesh.triangles.size(); ++t) EXPECT_EQ(a.mesh.triangles[t].layer, b.mesh.triangles[t].layer);
+    EXPECT_EQ(a.mesh.kind, b.mesh.kind);
+    EXPECT_EQ(api::metrics_json(a), api::metrics_json(b));
+    for (const char* name : {"json", "vtk", "su2", "msh", "svg", "foam"}) {
+        const api::Format f = *api::parse_format(name);
+        EXPECT_EQ(written(f, a), written(f, b)) << name;
+    }
+    const auto metrics = nlohmann::json::parse(api::metrics_json(b));
+    ASSERT_TRUE(metrics.contains("boundary_layers"));
+    EXPECT_EQ(metrics["quads"].get<size_t>(), a.mesh.quads.size());
+    EXPECT_EQ(metrics["boundary_layers"][0]["layers"]["max"].get<int>(), 12);
+}

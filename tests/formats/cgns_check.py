@@ -23,8 +23,8 @@ from common import CUT_TO_HOLE, check, finish  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
 
-TRI_3, BAR_2, TRI_6, BAR_3 = 5, 3, 6, 4  # CGNS ElementType_t values
-VTK_TRIANGLE, VTK_LINE, VTK_QUADRATIC_TRIANGLE, VTK_QUADRATIC_EDGE = 5, 3, 22, 21
+TRI_3, BAR_2, TRI_6, BAR_3, QUAD_4 = 5, 3, 6, 4, 7  # CGNS ElementType_t values
+VTK_TRIANGLE, VTK_LINE, VTK_QUADRATIC_TRIANGLE, VTK_QUADRATIC_EDGE, VTK_QUAD = 5, 3, 22, 21, 9
 
 
 def text(node):
@@ -58,6 +58,8 @@ def check_case(request, where, name, embedded_tags, bc_types):
     tri_type, bar_type = (TRI_6, BAR_3) if quadratic else (TRI_3, BAR_2)
     vtk_tri, vtk_line = (VTK_QUADRATIC_TRIANGLE, VTK_QUADRATIC_EDGE) if quadratic else (VTK_TRIANGLE, VTK_LINE)
     points = np.array(mesh["points"], dtype=float)
+    quads = mesh.get("quads", [])
+    ncells = len(mesh["triangles"]) + len(quads)
     loop_tags = [t for t in mesh["boundaries"] if t not in embedded_tags]
 
     # cgnscheck: the CGNS project's own checker.
@@ -79,8 +81,10 @@ def check_case(request, where, name, embedded_tags, bc_types):
     check(internal is not None, f"{name}: VTK finds the zone's cells")
     if internal is not None:
         check(internal.GetNumberOfPoints() == len(points), f"{name}: {internal.GetNumberOfPoints()} points, JSON has {len(points)}")
-        check(internal.GetNumberOfCells() == len(mesh["triangles"]), f"{name}: {internal.GetNumberOfCells()} triangles")
-        check(all(internal.GetCellType(i) == vtk_tri for i in range(internal.GetNumberOfCells())), f"{name}: triangles only")
+        check(internal.GetNumberOfCells() == ncells, f"{name}: {internal.GetNumberOfCells()} cells")
+        kinds = [internal.GetCellType(i) for i in range(internal.GetNumberOfCells())]
+        check(kinds.count(vtk_tri) == len(mesh["triangles"]) and kinds.count(VTK_QUAD) == len(quads),
+              f"{name}: the triangles and the quads")
         xy = np.array([internal.GetPoint(i)[:2] for i in range(internal.GetNumberOfPoints())])
         check(np.array_equal(xy, points), f"{name}: the coordinates are the JSON mesh's")
     patches = blocks.get("Patches")
@@ -104,7 +108,7 @@ def check_case(request, where, name, embedded_tags, bc_types):
         check(text(base["DataClass"]) == "NormalizedByUnknownDimensional", f"{name}: lengths in the request's unit")
         z = base["Zone"]
         check(text(z["ZoneType"]) == "Unstructured", f"{name}: an unstructured zone")
-        check(list(np.asarray(z[" data"]).ravel()) == [len(points), len(mesh["triangles"]), 0], f"{name}: the zone's sizes")
+        check(list(np.asarray(z[" data"]).ravel()) == [len(points), ncells, 0], f"{name}: the zone's sizes")
         sections = {k: z[k] for k in z if label(z[k]) == "Elements_t"}
         ranges = []
         for sname, s in sections.items():
@@ -115,6 +119,9 @@ def check_case(request, where, name, embedded_tags, bc_types):
             if sname == "Triangles":
                 check(kind == tri_type, f"{name}: triangles of type {tri_type}")
                 check(np.array_equal(conn.reshape(len(mesh["triangles"]), -1), np.array(mesh["triangles"])), f"{name}: the triangles of the JSON mesh")
+            elif sname == "Quadrilaterals":
+                check(kind == QUAD_4, f"{name}: quads of type QUAD_4")
+                check(np.array_equal(conn.reshape(-1, 4), np.array(quads)), f"{name}: the quads of the JSON mesh")
             else:
                 check(kind == bar_type, f"{name}: section {sname} is of type {bar_type}")
                 check(sname in mesh["boundaries"] or sname.endswith("_embedded"), f"{name}: section {sname} is a tag")
@@ -152,6 +159,10 @@ with tempfile.TemporaryDirectory() as where:
                          "loops": [["outer"], ["inner"]]},
             "density": {"size": 0.15}, "options": {"order": 2, "patch_types": {"inner": "wall"}}}
     check_case(ring, where, "annulus_order2", set(), {"inner": "BCWall"})
+    # Boundary layers: a QUAD_4 section after the triangles.
+    layered = json.loads(json.dumps(naca))
+    layered["boundary_layers"] = [{"curves": ["wing"], "first_height": 1e-4, "growth": 1.2, "layers": 15}]
+    check_case(layered, where, "naca0012_layers", set(), {"wall": "BCWall"})
     ring_mesh, _ = meshes(ring, where, "annulus_order2")
     pts = np.array(ring_mesh["points"])
     for tag, radius in (("outer", 1.0), ("inner", 0.5)):

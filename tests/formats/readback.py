@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Meshes the examples with meshd-cli in every format and reads the files back with the
 readers of each ecosystem: meshio (VTK, SU2, MSH), VTK's own Python module (VTK), and gmsh
-(MSH). Checks counts, tags and coordinates against the JSON output of the same run.
+(MSH). Checks counts, tags and coordinates against the JSON output of the same run; with
+boundary layers, the quads in each.
 
 usage: readback.py MESHD_CLI EXAMPLES_DIR"""
 import json
@@ -90,6 +91,45 @@ with tempfile.TemporaryDirectory() as tmp:
         check(n == len(ref["boundaries"][name]), f"gmsh: edges of {name}")
     types, elems, _ = gmsh.model.mesh.getElements(2)
     check(sum(len(x) for x in elems) == len(tris), "gmsh: triangles")
+    gmsh.finalize()
+
+# Boundary layers: the quads in every format, beside the triangles, as each reader sees them.
+with tempfile.TemporaryDirectory() as tmp:
+    request = json.load(open(os.path.join(examples, "naca0012.json")))
+    request["boundary_layers"] = [{"curves": ["wing"], "first_height": 1e-4, "growth": 1.2, "layers": 15}]
+    path = os.path.join(tmp, "layers.json")
+    json.dump(request, open(path, "w"))
+    out = {}
+    for fmt in ("json", "vtk", "su2", "msh"):
+        out[fmt] = os.path.join(tmp, "mesh." + fmt)
+        subprocess.run([cli, path, "-o", out[fmt], "--quiet"], check=True)
+    ref = json.load(open(out["json"]))["mesh"]
+    tris, quads = np.array(ref["triangles"]), np.array(ref["quads"])
+    check(len(quads) > 0, "layers: the JSON holds quads")
+    pts = np.array(ref["points"])
+    for fmt in ("vtk", "su2", "msh"):
+        mesh = meshio.read(out[fmt])
+        cells = {}
+        for c in mesh.cells:
+            cells.setdefault(c.type, []).append(c.data)
+        got = {k: np.concatenate(v) for k, v in cells.items()}
+        # By their corners' coordinates (meshio numbers MSH nodes in the file's order).
+        check("quad" in got and np.array_equal(mesh.points[got["quad"]][:, :, :2], pts[quads]),
+              f"layers/{fmt}/meshio: the quads")
+        check(len(got.get("triangle", [])) == len(tris), f"layers/{fmt}/meshio: the triangles")
+    r = vtk.vtkUnstructuredGridReader()
+    r.SetFileName(out["vtk"])
+    r.Update()
+    g = r.GetOutput()
+    kinds = [g.GetCellType(i) for i in range(g.GetNumberOfCells())]
+    check(kinds.count(vtk.VTK_QUAD) == len(quads), "layers/vtk: VTK_QUAD cells")
+    import gmsh
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.open(out["msh"])
+    types, elems, _ = gmsh.model.mesh.getElements(2, 1)
+    by_type = dict(zip(types, (len(e) for e in elems)))
+    check(by_type.get(3) == len(quads) and by_type.get(2) == len(tris), "layers/gmsh: quads and triangles on the surface")
     gmsh.finalize()
 
 finish("all formats read back")

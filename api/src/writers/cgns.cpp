@@ -83,7 +83,8 @@ void write_file(const Mesh& m, const std::string& path, const FoamOptions& optio
     // Lengths in the request's own unit, which meshd does not know.
     must(cg_goto(fn, base, "end"), "goto base");
     must(cg_dataclass_write(NormalizedByUnknownDimensional), "data class");
-    cgsize_t size[3] = {static_cast<cgsize_t>(nv), static_cast<cgsize_t>(nt), 0};
+    const size_t nq = m.quads.size();
+    cgsize_t size[3] = {static_cast<cgsize_t>(nv), static_cast<cgsize_t>(nt + nq), 0};
     must(cg_zone_write(fn, base, "Zone", size, Unstructured, &zone), "zone");
     std::vector<double> c(nv);
     for (size_t i = 0; i < nv; ++i) c[i] = any_point(m, i).x;
@@ -112,8 +113,17 @@ void write_file(const Mesh& m, const std::string& path, const FoamOptions& optio
                           conn.data(), &section),
          "triangles");
 
+    if (nq) {  // the boundary layers' quads: a QUAD_4 section after the triangles
+        conn.clear();
+        for (const auto& q : m.quads)
+            for (auto v : q) conn.push_back(static_cast<cgsize_t>(v) + 1);
+        must(cg_section_write(fn, base, zone, "Quadrilaterals", QUAD_4, static_cast<cgsize_t>(nt) + 1,
+                              static_cast<cgsize_t>(nt + nq), 0, conn.data(), &section),
+             "quadrilaterals");
+    }
+
     // Names within 32 characters, apart from each other and from the sections above.
-    std::set<std::string> taken{"Triangles"};
+    std::set<std::string> taken{"Triangles", "Quadrilaterals"};
     auto fit = [&](const std::string& stem, const std::string& suffix) {
         std::string name = stem.substr(0, kCgnsName - suffix.size()) + suffix;
         for (int k = 2; taken.count(name); ++k) {
@@ -126,7 +136,7 @@ void write_file(const Mesh& m, const std::string& path, const FoamOptions& optio
     std::vector<std::string> short_names;
     for (const std::string& n : tag_names(m.tags, [](char ch) { return ch != '/' && ch != '.'; })) short_names.push_back(fit(n, ""));
 
-    cgsize_t next = static_cast<cgsize_t>(nt) + 1;
+    cgsize_t next = static_cast<cgsize_t>(nt + nq) + 1;
     const auto groups = edges_by_tag(m);
     for (int pass = 0; pass < 2; ++pass) {  // the boundary, then the embedded edges
         const bool embedded = pass == 1;

@@ -50,6 +50,17 @@ inline double tri_quality(const Mesh& m, const core::Triangle& t) {
 }
 
 // Second order: the points of a file are the vertices, then the edge nodes (Mesh::edge_nodes).
+/// A quad's quality: its scaled Jacobian, the smallest over its corners of the sine of the
+/// corner's angle (1 for a rectangle).
+inline double quad_quality(const Mesh& m, const std::array<core::VertexId, 4>& q) {
+    double lowest = 1.0;
+    for (size_t i = 0; i < 4; ++i) {
+        const core::Vec2 p = m.point(q[i]), e1 = m.point(q[(i + 1) % 4]) - p, e0 = m.point(q[(i + 3) % 4]) - p;
+        lowest = std::fmin(lowest, core::cross(e1, e0) / (core::norm(e1) * core::norm(e0)));
+    }
+    return lowest;
+}
+
 inline size_t all_points(const Mesh& m) { return m.point_count() + m.edge_nodes.size(); }
 inline core::Vec2 any_point(const Mesh& m, size_t id) {
     return id < m.point_count() ? m.point(static_cast<core::VertexId>(id)) : m.edge_nodes[id - m.point_count()];

@@ -1,8 +1,8 @@
 // An OpenFOAM case's constant/polyMesh (points, faces, owner, neighbour, boundary) as a tar
-// archive: the 2D mesh extruded one cell thick in z, a prism per triangle. Faces are in the
-// order OpenFOAM requires: the internal faces first, by owner and then neighbour (upper
-// triangular), each pointing from its owner (the lower cell) into its neighbour; then the
-// boundary faces patch by patch, pointing out of the domain: one patch per tag, then the two
+// archive: the 2D mesh extruded one cell thick in z, a prism per triangle and a hexahedron
+// per quad (the boundary layers). Faces are in the order OpenFOAM requires: the internal
+// faces first, by owner and then neighbour (upper triangular), each pointing from its owner
+// (the lower cell) into its neighbour; then the boundary faces patch by patch, pointing out of the domain: one patch per tag, then the two
 // faces of the slab in `frontAndBack` of type empty. Embedded edges are internal faces (a tag
 // on embedded curves alone has no patch).
 //
@@ -92,7 +92,7 @@ struct Face {
 
 void write_foam(const MeshResult& r, std::ostream& os, const FoamOptions& options) {
     const Mesh& m = r.mesh;
-    const size_t np = m.point_count(), nt = m.triangles.size();
+    const size_t np = m.point_count(), nt = m.triangles.size(), nq = m.quads.size(), nc = nt + nq;
 
     // The tag of every loop edge, by its two points.
     std::unordered_map<std::uint64_t, core::TagId> tag_of;
@@ -109,30 +109,69 @@ void write_foam(const MeshResult& r, std::ostream& os, const FoamOptions& option
     }
     const double h = options.slab_thickness.value_or(boundary_edges ? boundary_length / static_cast<double>(boundary_edges) : 1.0);
 
+    // Cells: the triangles (prisms), then the quads (hexahedra). Across a triangle's side the
+    // neighbour is its adjacent triangle, or the quad that has the side the other way round.
+    std::unordered_map<std::uint64_t, std::uint32_t> quad_side;  // directed side -> cell
+    auto directed = [](std::uint32_t a, std::uint32_t b) { return (static_cast<std::uint64_t>(a) << 32) | b; };
+    for (size_t q = 0; q < nq; ++q)
+        for (size_t i = 0; i < 4; ++i)
+            quad_side.emplace(directed(m.quads[q][i], m.quads[q][(i + 1) % 4]), static_cast<std::uint32_t>(nt + q));
+    auto across = [&](std::uint32_t a, std::uint32_t b) {  // the cell with side b -> a, if a quad
+        const auto it = quad_side.find(directed(b, a));
+        return it == quad_side.end() ? core::kNoTriangle : it->second;
+    };
     // Internal faces by owner, then neighbour; boundary faces by tag.
     std::vector<Face> internal;
     std::vector<std::vector<Face>> by_tag(m.tags.size());
-    for (std::uint32_t t = 0; t < nt; ++t) {
-        const core::Triangle& T = m.triangles[t];
-        std::array<Face, 3> own{};
-        size_t n_own = 0;
-        for (std::uint32_t i = 0; i < 3; ++i) {
-            const std::uint32_t a = T.v[(i + 1) % 3], b = T.v[(i + 2) % 3];
-            if (T.n[i] == core::kNoTriangle) {
-                const auto it = tag_of.find(key(a, b));
-                if (it != tag_of.end()) by_tag[it->second].push_back({t, core::kNoTriangle, a, b});
-            } else if (T.n[i] > t) {
-                own[n_own++] = {t, T.n[i], a, b};
-            }
+    std::array<Face, 4> own{};
+    size_t n_own = 0;
+    auto side_of = [&](std::uint32_t c, std::uint32_t a, std::uint32_t b, std::uint32_t other) {
+        if (other == core::kNoTriangle) {
+            const auto it = tag_of.find(key(a, b));
+            if (it != tag_of.end()) by_tag[it->second].push_back({c, core::kNoTriangle, a, b});
+        } else if (other > c) {
+            own[n_own++] = {c, other, a, b};
         }
-        // At most three: by neighbour, insertion.
+    };
+    auto flush = [&] {
+        // At most four: by neighbour, insertion.
         for (size_t i = 1; i < n_own; ++i)
             for (size_t j = i; j > 0 && own[j].neighbour < own[j - 1].neighbour; --j) std::swap(own[j], own[j - 1]);
         for (size_t i = 0; i < n_own; ++i) internal.push_back(own[i]);
+        n_own = 0;
+    };
+    for (std::uint32_t t = 0; t < nt; ++t) {
+        const core::Triangle& T = m.triangles[t];
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            const std::uint32_t a = T.v[(i + 1) % 3], b = T.v[(i + 2) % 3];
+            side_of(t, a, b, T.n[i] != core::kNoTriangle ? T.n[i] : across(a, b));
+        }
+        flush();
+    }
+    if (nq) {
+        // A quad's neighbour: the cell holding its side the other way round.
+        std::unordered_map<std::uint64_t, std::uint32_t> tri_side;
+        for (std::uint32_t t = 0; t < nt; ++t)
+            for (std::uint32_t i = 0; i < 3; ++i)
+                if (m.triangles[t].n[i] == core::kNoTriangle)
+                    tri_side.emplace(directed(m.triangles[t].v[(i + 1) % 3], m.triangles[t].v[(i + 2) % 3]), t);
+        for (size_t q = 0; q < nq; ++q) {
+            const std::uint32_t c = static_cast<std::uint32_t>(nt + q);
+            for (size_t i = 0; i < 4; ++i) {
+                const std::uint32_t a = m.quads[q][i], b = m.quads[q][(i + 1) % 4];
+                std::uint32_t other = across(a, b);
+                if (other == core::kNoTriangle) {
+                    const auto it = tri_side.find(directed(b, a));
+                    if (it != tri_side.end()) other = it->second;
+                }
+                side_of(c, a, b, other);
+            }
+            flush();
+        }
     }
     size_t n_boundary = 0;
     for (const auto& f : by_tag) n_boundary += f.size();
-    const size_t nfaces = internal.size() + n_boundary + 2 * nt;
+    const size_t nfaces = internal.size() + n_boundary + 2 * nc;
 
     // Patch names: OpenFOAM words (letters, digits, _ - . +; not starting with a digit).
     std::vector<std::string> names = tag_names(
@@ -165,11 +204,14 @@ void write_foam(const MeshResult& r, std::ostream& os, const FoamOptions& option
         for (const auto& patch : by_tag)
             for (const Face& f : patch) side(out, f);
         for (const core::Triangle& T : m.triangles) out << "3(" << T.v[0] << ' ' << T.v[2] << ' ' << T.v[1] << ")\n";
+        for (const auto& Q : m.quads) out << "4(" << Q[0] << ' ' << Q[3] << ' ' << Q[2] << ' ' << Q[1] << ")\n";
         for (const core::Triangle& T : m.triangles)
             out << "3(" << T.v[0] + top << ' ' << T.v[1] + top << ' ' << T.v[2] + top << ")\n";
+        for (const auto& Q : m.quads)
+            out << "4(" << Q[0] + top << ' ' << Q[1] + top << ' ' << Q[2] + top << ' ' << Q[3] + top << ")\n";
         out << ")\n";
     });
-    const std::string note = "nPoints:" + std::to_string(2 * np) + "  nCells:" + std::to_string(nt) +
+    const std::string note = "nPoints:" + std::to_string(2 * np) + "  nCells:" + std::to_string(nc) +
                              "  nFaces:" + std::to_string(nfaces) + "  nInternalFaces:" + std::to_string(internal.size());
     tar_file(os, dir + "owner", [&](std::ostream& out) {
         foam_header(out, "labelList", "owner", note);
@@ -177,8 +219,8 @@ void write_foam(const MeshResult& r, std::ostream& os, const FoamOptions& option
         for (const Face& f : internal) out << f.owner << '\n';
         for (const auto& patch : by_tag)
             for (const Face& f : patch) out << f.owner << '\n';
-        for (int layer = 0; layer < 2; ++layer)
-            for (size_t t = 0; t < nt; ++t) out << t << '\n';
+        for (int slab_side = 0; slab_side < 2; ++slab_side)
+            for (size_t c = 0; c < nc; ++c) out << c << '\n';
         out << ")\n";
     });
     tar_file(os, dir + "neighbour", [&](std::ostream& out) {
@@ -205,7 +247,7 @@ void write_foam(const MeshResult& r, std::ostream& os, const FoamOptions& option
             const auto it = options.patch_types.find(m.tags[g]);
             patch(names[g], it == options.patch_types.end() ? "patch" : it->second, by_tag[g].size());
         }
-        patch("frontAndBack", "empty", 2 * nt);
+        patch("frontAndBack", "empty", 2 * nc);
         out << ")\n";
     });
     static const std::array<char, 1024> end{};

@@ -17,6 +17,7 @@ std::string metrics_json(const MeshResult& r) {
     j["boundary_points"] = q.boundary_points;
     j["interior_points"] = q.interior_points;
     j["triangles"] = q.triangles;
+    if (q.quads) j["quads"] = q.quads;
     j["angle_deg"] = {{"min", q.angle_min}, {"max", q.angle_max}, {"mean", q.angle_mean}};
     j["quality"] = {{"min", q.quality_min}, {"mean", q.quality_mean}, {"histogram", q.quality_histogram}};
     j["size_ratio"] = {{"mean", q.size_ratio_mean}, {"within_sqrt2", q.size_ratio_within_sqrt2}};
@@ -24,6 +25,20 @@ std::string metrics_json(const MeshResult& r) {
         j["curved"] = {{"edges", q.curved_edges},
                        {"straightened", q.straightened_edges},
                        {"scaled_jacobian_min", q.scaled_jacobian_min}};
+    if (!q.boundary_layers.empty()) {
+        nlohmann::ordered_json layers = nlohmann::ordered_json::array();
+        for (const auto& l : q.boundary_layers) {
+            nlohmann::ordered_json at = nlohmann::ordered_json::array();
+            for (const core::Vec2& p : l.cut_back_at) at.push_back({p.x, p.y});
+            layers.push_back({{"columns", l.columns},
+                              {"layers", {{"min", l.layers_min}, {"max", l.layers_max}}},
+                              {"first_height", {{"min", l.first_height_min}, {"max", l.first_height_max}}},
+                              {"aspect_ratio_max", l.aspect_ratio_max},
+                              {"scaled_jacobian_min", l.scaled_jacobian_min},
+                              {"cut_back", {{"columns", l.cut_back}, {"at", at}}}});
+        }
+        j["boundary_layers"] = layers;
+    }
     j["timings_ms"] = {{"boundary", r.timings.boundary_ms},
                        {"interior", r.timings.interior_ms},
                        {"triangulation", r.timings.triangulation_ms},
@@ -53,7 +68,16 @@ void write_json(const MeshResult& r, std::ostream& os) {
         }
         os << ']';
     }
-    os << "],\"boundaries\":{";
+    os << ']';
+    if (!m.quads.empty()) {
+        os << ",\"quads\":[";
+        for (size_t q = 0; q < m.quads.size(); ++q) {
+            const auto& Q = m.quads[q];
+            os << (q ? ",[" : "[") << Q[0] << ',' << Q[1] << ',' << Q[2] << ',' << Q[3] << ']';
+        }
+        os << ']';
+    }
+    os << ",\"boundaries\":{";
     const auto groups = edges_by_tag(m);
     for (size_t g = 0; g < groups.size(); ++g) {
         os << (g ? "," : "") << nlohmann::json(m.tags[g]).dump() << ":[";

@@ -189,8 +189,10 @@ void write_msh(const MeshResult& r, std::ostream& os) {
 
     // Elements: the lines on their curves, the triangles on the surface (types 1 and 2, or
     // 8 and 9 at second order: 3-node lines and 6-node triangles).
-    const size_t nelem = m.triangles.size() + m.edges.size();
-    os << "$Elements\n" << curves.size() + 1 << ' ' << nelem << " 1 " << nelem << '\n';
+    // Quads (type 3, the boundary layers) in a block of their own on the same surface.
+    const size_t nelem = m.triangles.size() + m.quads.size() + m.edges.size();
+    const size_t blocks = curves.size() + 1 + (m.quads.empty() ? 0 : 1);
+    os << "$Elements\n" << blocks << ' ' << nelem << " 1 " << nelem << '\n';
     size_t id = 1;
     for (size_t i = 0; i < curves.size(); ++i) {
         os << "1 " << i + 1 << (quadratic ? " 8 " : " 1 ") << curves[i].edges.size() << '\n';
@@ -209,6 +211,10 @@ void write_msh(const MeshResult& r, std::ostream& os) {
             for (auto v : m.triangles[t].v) os << ' ' << v + 1;
         }
         os << '\n';
+    }
+    if (!m.quads.empty()) {
+        os << "2 1 3 " << m.quads.size() << '\n';
+        for (const auto& q : m.quads) os << id++ << ' ' << q[0] + 1 << ' ' << q[1] + 1 << ' ' << q[2] + 1 << ' ' << q[3] + 1 << '\n';
     }
     os << "$EndElements\n";
 }

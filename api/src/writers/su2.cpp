@@ -1,4 +1,4 @@
-// SU2 native mesh: triangles and one marker per tag.
+// SU2 native mesh: triangles, quadrilaterals and one marker per tag.
 
 #include <algorithm>
 #include <cmath>
@@ -12,10 +12,14 @@ using namespace writers;
 
 void write_su2(const MeshResult& r, std::ostream& os) {
     const Mesh& m = r.mesh;
-    os << "% meshd\nNDIME= 2\nNELEM= " << m.triangles.size() << '\n';
+    os << "% meshd\nNDIME= 2\nNELEM= " << m.triangles.size() + m.quads.size() << '\n';
     for (size_t t = 0; t < m.triangles.size(); ++t) {
         const auto& T = m.triangles[t];
         os << "5 " << T.v[0] << ' ' << T.v[1] << ' ' << T.v[2] << ' ' << t << '\n';
+    }
+    for (size_t q = 0; q < m.quads.size(); ++q) {  // 9: quadrilateral
+        const auto& Q = m.quads[q];
+        os << "9 " << Q[0] << ' ' << Q[1] << ' ' << Q[2] << ' ' << Q[3] << ' ' << m.triangles.size() + q << '\n';
     }
     os << "NPOIN= " << m.point_count() << '\n';
     for (size_t v = 0; v < m.point_count(); ++v) os << Num(m.x[v]) << ' ' << Num(m.y[v]) << ' ' << v << '\n';

@@ -9,6 +9,10 @@ namespace meshd::api {
 
 using namespace writers;
 
+namespace {
+constexpr const char* kLayerFill = "#f3d9b1";
+}  // namespace
+
 void write_svg(const MeshResult& r, std::ostream& os, std::optional<core::Box> view) {
     const Mesh& m = r.mesh;
     core::Box b;
@@ -32,7 +36,8 @@ void write_svg(const MeshResult& r, std::ostream& os, std::optional<core::Box> v
     const double stroke = 0.0005 * std::fmax(W, H);
     os << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " << Num(W) << ' ' << Num(H) << "\" width=\""
        << Num(W) << "\" height=\"" << Num(H) << "\">\n<title>meshd: " << m.point_count() << " points, "
-       << m.triangles.size() << " triangles</title>\n<g stroke=\"#333\" stroke-width=\"" << Num(stroke)
+       << m.triangles.size() << " triangles" << (m.quads.empty() ? "" : ", " + std::to_string(m.quads.size()) + " quads")
+       << "</title>\n<g stroke=\"#333\" stroke-width=\"" << Num(stroke)
        << "\" stroke-linejoin=\"round\">\n";
     // Second order: each edge a quadratic Bezier through its edge node (control point
     // 2 node - (a + b) / 2), so curved boundaries are drawn curved.
@@ -49,7 +54,13 @@ void write_svg(const MeshResult& r, std::ostream& os, std::optional<core::Box> v
     for (size_t ti = 0; ti < m.triangles.size(); ++ti) {
         const auto& t = m.triangles[ti];
         if (!visible({t.v[0], t.v[1], t.v[2]})) continue;
-        // Quality 0 -> red, 0.5 -> yellow, 1 -> pale green.
+        // Quality 0 -> red, 0.5 -> yellow, 1 -> pale green; the boundary layers' cells, thin
+        // on purpose, in one colour of their own.
+        if (t.layer) {
+            os << "<path fill=\"" << kLayerFill << "\" d=\"M" << X(m.x[t.v[0]]) << ' ' << Y(m.y[t.v[0]]) << 'L'
+               << X(m.x[t.v[1]]) << ' ' << Y(m.y[t.v[1]]) << 'L' << X(m.x[t.v[2]]) << ' ' << Y(m.y[t.v[2]]) << "Z\"/>\n";
+            continue;
+        }
         const double q = tri_quality(m, t);
         const int red = q < 0.5 ? 230 : static_cast<int>(230 - (q - 0.5) * 2 * 130);
         const int green = q < 0.5 ? static_cast<int>(60 + q * 2 * 170) : 230;
@@ -61,6 +72,12 @@ void write_svg(const MeshResult& r, std::ostream& os, std::optional<core::Box> v
         to(t.v[0], t.v[1], six[3]);
         to(t.v[1], t.v[2], six[4]);
         if (quadratic) to(t.v[2], t.v[0], six[5]);  // a straight closing side is Z's own
+        os << "Z\"/>\n";
+    }
+    for (const auto& q : m.quads) {
+        if (!visible({q[0], q[1], q[2], q[3]})) continue;
+        os << "<path fill=\"" << kLayerFill << "\" d=\"M" << X(m.x[q[0]]) << ' ' << Y(m.y[q[0]]);
+        for (size_t i = 1; i < 4; ++i) os << 'L' << X(m.x[q[i]]) << ' ' << Y(m.y[q[i]]);
         os << "Z\"/>\n";
     }
     os << "</g>\n";

@@ -166,27 +166,10 @@ private:
 
 }  // namespace
 
-Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
-                                   const BoundaryOptions& options, Observer* observer) {
-    CurveSampler b(domain, rho, options);
-    std::vector<CurveId> order;
-    for (const auto& l : domain.loops())
-        for (const auto& u : l.items) order.push_back(u.curve);
-    for (CurveId c : domain.embedded()) order.push_back(c);
-    // Curves in a stable order (by id) so that vertex numbering does not depend on loops.
-    std::vector<CurveId> sorted = order;
-    std::sort(sorted.begin(), sorted.end());
-    double done = 0.0, total = 0.0;
-    for (CurveId c : sorted) total += domain.curves()[c].length;
-    for (CurveId c : sorted) {
-        if (observer) {
-            if (observer->should_stop()) throw Cancelled();
-            observer->on_progress(Stage::Boundary, total > 0.0 ? done / total : 0.0);
-        }
-        b.discretise(c);
-        done += domain.curves()[c].length;
-    }
-    Discretisation& d = b.result();
+void link_loops(const Domain& domain, Discretisation& d) {
+    d.loops.clear();
+    d.segments.clear();
+    d.embedded.clear();
     for (const auto& l : domain.loops()) {
         std::vector<VertexId> cycle;
         for (const auto& u : l.items) {
@@ -212,6 +195,30 @@ Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
         const auto& v = d.curve_vertices[c];
         for (size_t i = 0; i + 1 < v.size(); ++i) d.segments.push_back({v[i], v[i + 1], c});
     }
+}
+
+Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
+                                   const BoundaryOptions& options, Observer* observer) {
+    CurveSampler b(domain, rho, options);
+    std::vector<CurveId> order;
+    for (const auto& l : domain.loops())
+        for (const auto& u : l.items) order.push_back(u.curve);
+    for (CurveId c : domain.embedded()) order.push_back(c);
+    // Curves in a stable order (by id) so that vertex numbering does not depend on loops.
+    std::vector<CurveId> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    double done = 0.0, total = 0.0;
+    for (CurveId c : sorted) total += domain.curves()[c].length;
+    for (CurveId c : sorted) {
+        if (observer) {
+            if (observer->should_stop()) throw Cancelled();
+            observer->on_progress(Stage::Boundary, total > 0.0 ? done / total : 0.0);
+        }
+        b.discretise(c);
+        done += domain.curves()[c].length;
+    }
+    Discretisation& d = b.result();
+    link_loops(domain, d);
 
     // The chords of nearby curves can cross even when the curves do not (too coarse a
     // density across a narrow gap): the mesher needs a simple polygon, so check.

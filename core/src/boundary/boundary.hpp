@@ -58,6 +58,9 @@ struct Discretisation {
     Vec2 point(VertexId v) const { return {x[v], y[v]}; }
 };
 
+/// Fills loops, embedded and segments of `d` from its curve_vertices, in the domain's order.
+void link_loops(const Domain& domain, Discretisation& d);
+
 /// Throws GeometryError (density invalid on a curve, too many points, the discretised
 /// polygons crossing) or Cancelled.
 Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,

@@ -39,9 +39,14 @@ CornerCot smallest_angle_cot(Vec2 a, Vec2 b, Vec2 c) {
 QualityMetrics measure_quality(const Mesh& m, const SizeField& rho) {
     QualityMetrics q;
     q.points = m.point_count();
-    for (PointKind k : m.kind) (k == PointKind::Interior ? q.interior_points : q.boundary_points)++;
+    for (PointKind k : m.kind)
+        (k == PointKind::Interior || k == PointKind::Layer ? q.interior_points : q.boundary_points)++;
     q.triangles = m.triangles.size();
-    if (m.triangles.empty()) return q;
+    q.quads = m.quads.size();
+    // The isotropic triangles' figures: the boundary layers' cells have their own.
+    size_t isotropic = 0;
+    for (const Triangle& T : m.triangles) isotropic += T.layer ? 0 : 1;
+    if (isotropic == 0) return q;
     // The extreme angles are found by their cotangents; only those two get an atan2.
     double quality_sum = 0.0;
     q.quality_min = 1.0;
@@ -49,6 +54,7 @@ QualityMetrics measure_quality(const Mesh& m, const SizeField& rho) {
     TriangleId lo_t = 0, hi_t = 0;
     for (TriangleId t = 0; t < m.triangles.size(); ++t) {
         const Triangle& T = m.triangles[t];
+        if (T.layer) continue;
         const Vec2 a = m.point(T.v[0]), b = m.point(T.v[1]), c = m.point(T.v[2]);
         const auto k = cotangents(a, b, c);
         for (int i = 0; i < 3; ++i) {
@@ -74,15 +80,16 @@ QualityMetrics measure_quality(const Mesh& m, const SizeField& rho) {
     q.angle_min = corner_angle(lo_t, lo.corner);
     q.angle_max = corner_angle(hi_t, hi.corner);
     q.angle_mean = 60.0;  // the angles of every triangle sum to 180 degrees
-    q.quality_mean = quality_sum / static_cast<double>(m.triangles.size());
+    q.quality_mean = quality_sum / static_cast<double>(isotropic);
     // Each edge once: from the triangle with the larger index across it, or without neighbour.
     double ratio_sum = 0.0;
     size_t edges = 0, within = 0;
     const double s2 = std::sqrt(2.0);
     for (TriangleId t = 0; t < m.triangles.size(); ++t) {
         const Triangle& T = m.triangles[t];
+        if (T.layer) continue;
         for (std::uint32_t i = 0; i < 3; ++i) {
-            if (T.n[i] != kNoTriangle && T.n[i] < t) continue;
+            if (T.n[i] != kNoTriangle && T.n[i] < t && !m.triangles[T.n[i]].layer) continue;
             const Vec2 a = m.point(T.v[(i + 1) % 3]), b = m.point(T.v[(i + 2) % 3]);
             const double target = rho.interior(0.5 * (a + b));
             const double r = distance(a, b) / target;

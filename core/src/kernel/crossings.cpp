@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 
 #include "kernel/predicates.hpp"
 
@@ -54,15 +55,14 @@ SegmentGrid::Cells SegmentGrid::cells(std::uint32_t segment, int k) const {
                  classes_.iy(std::fmin(a.y, b.y) - margin_, k), classes_.iy(std::fmax(a.y, b.y) + margin_, k)};
 }
 
-std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const SegmentSoup& soup) {
+void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
     const auto& pts = soup.points;
     const auto& segs = soup.segments;
     const size_t n = segs.size();
-    if (n < 2) return std::nullopt;
+    if (n < 2) return;
     const SegmentGrid grid(soup, 0.0);
-    if (grid.empty()) return std::nullopt;
+    if (grid.empty()) return;
 
-    std::optional<std::pair<std::uint32_t, std::uint32_t>> best;
     std::vector<std::uint32_t> candidates;
     for (std::uint32_t i = 0; i < n; ++i) {
         candidates.clear();
@@ -94,10 +94,16 @@ std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const Segme
             } else if (!segments_intersect(pts[s[0]], pts[s[1]], pts[t[0]], pts[t[1]])) {
                 continue;
             }
-            const std::pair<std::uint32_t, std::uint32_t> pair{std::min(i, j), std::max(i, j)};
-            if (!best || pair < *best) best = pair;
+            visit(std::min(i, j), std::max(i, j));
         }
     }
+}
+
+std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const SegmentSoup& soup) {
+    std::optional<std::pair<std::uint32_t, std::uint32_t>> best;
+    for_each_crossing(soup, [&](std::uint32_t i, std::uint32_t j) {
+        if (!best || std::pair{i, j} < *best) best = std::pair{i, j};
+    });
     return best;
 }
 

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -62,6 +63,10 @@ private:
     std::array<bool, SizeClasses::kMax + 1> used_{};
     CellMap grid_;
 };
+
+/// Calls visit(i, j), i < j, for every pair of segments that share a point (segments with a
+/// common end only when they overlap), each pair once.
+void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit);
 
 /// The crossing pair (i, j), i < j, with the smallest i (then j), if any.
 std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const SegmentSoup& soup);

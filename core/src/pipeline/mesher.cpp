@@ -3,6 +3,8 @@
 #include "meshd/core/mesher.hpp"
 
 #include <chrono>
+#include <optional>
+#include <unordered_map>
 
 #include "boundary/boundary.hpp"
 #include "density/size_field.hpp"
@@ -11,6 +13,7 @@
 #include "improve/refine.hpp"
 #include "improve/smooth.hpp"
 #include "interior/interior.hpp"
+#include "layers/layers.hpp"
 #include "kernel/predicates.hpp"
 #include "kernel/spatial_order.hpp"
 #include "meshd/core/errors.hpp"
@@ -29,9 +32,11 @@ double ms_since(Clock::time_point t0) {
 }
 
 // The mesh's points, triangles and edges from the triangulation of the boundary and
-// interior points (boundary points first, in the discretisation's order).
-void assemble(Mesh& m, const Domain& domain, const Discretisation& d, const std::vector<Vec2>& inner,
-              std::vector<Triangle> triangles) {
+// interior points (boundary points first, in the discretisation's order). `d` holds the
+// points (with boundary layers: the layers' outer edge after the original's points), `edges`
+// the boundary's own segments and curves.
+void assemble(Mesh& m, const Domain& domain, const Discretisation& d, const Discretisation& edges,
+              const std::vector<Vec2>& inner, std::vector<Triangle> triangles) {
     const size_t n = d.size() + inner.size();
     m.x.reserve(n);
     m.y.reserve(n);
@@ -49,26 +54,80 @@ void assemble(Mesh& m, const Domain& domain, const Discretisation& d, const std:
     for (VertexId v = 0; v < d.size(); ++v) {
         m.curve[v] = d.curve[v];
         m.param[v] = d.param[v];
-        if (d.curve[v] == kNoCurve) m.kind[v] = PointKind::Corner;
+        if (v >= edges.size()) m.kind[v] = PointKind::Layer;
+        else if (d.curve[v] == kNoCurve) m.kind[v] = PointKind::Corner;
         else m.kind[v] = embedded_curve[d.curve[v]] ? PointKind::Embedded : PointKind::Boundary;
     }
     m.triangles = std::move(triangles);
     detail::order_by_largest_corner(m.triangles, m.point_count());
-    m.edges.reserve(d.segments.size());
-    for (size_t i = 0; i < d.segments.size(); ++i) {
-        const BoundarySegment& s = d.segments[i];
-        m.edges.push_back({s.a, s.b, domain.curves()[s.curve].tag, s.curve, i >= d.loop_segment_count});
+    m.edges.reserve(edges.segments.size());
+    for (size_t i = 0; i < edges.segments.size(); ++i) {
+        const BoundarySegment& s = edges.segments[i];
+        m.edges.push_back({s.a, s.b, domain.curves()[s.curve].tag, s.curve, i >= edges.loop_segment_count});
     }
     m.tags = domain.tags();
     m.holes = domain.hole_count();
     m.curve_ends.assign(domain.curves().size(), {kNoVertex, kNoVertex});
     for (CurveId c = 0; c < domain.curves().size(); ++c)
-        if (!d.curve_vertices[c].empty()) m.curve_ends[c] = {d.curve_vertices[c].front(), d.curve_vertices[c].back()};
+        if (!edges.curve_vertices[c].empty())
+            m.curve_ends[c] = {edges.curve_vertices[c].front(), edges.curve_vertices[c].back()};
     m.loops.clear();
     for (const DomainLoop& l : domain.loops()) {
         std::vector<Mesh::LoopCurve> curves;
         for (const CurveUse& u : l.items) curves.push_back({u.curve, u.reversed});
         m.loops.push_back(std::move(curves));
+    }
+}
+
+// The boundary layers' cells joined to the mesh: their hidden points after the mesh's,
+// their triangles after the others (marked `layer`, with neighbours both ways), their quads.
+void add_layers(Mesh& m, const GrownLayers& g) {
+    const VertexId hidden0 = static_cast<VertexId>(m.point_count());
+    for (const Vec2& p : g.hidden) {
+        m.x.push_back(p.x);
+        m.y.push_back(p.y);
+        m.kind.push_back(PointKind::Layer);
+        m.curve.push_back(kNoCurve);
+        m.param.push_back(0.0);
+    }
+    auto id = [&](std::uint32_t v) { return v & GrownLayers::kHidden ? hidden0 + (v & ~GrownLayers::kHidden) : v; };
+    for (const auto& q : g.quads) m.quads.push_back({id(q[0]), id(q[1]), id(q[2]), id(q[3])});
+    const TriangleId first = static_cast<TriangleId>(m.triangles.size());
+    for (const auto& t : g.triangles) {
+        Triangle T{{id(t[0]), id(t[1]), id(t[2])}, {kNoTriangle, kNoTriangle, kNoTriangle}};
+        T.layer = 1;
+        m.triangles.push_back(T);
+    }
+    // Neighbours: the open half-edges of every triangle, matched with their opposites.
+    std::unordered_map<std::uint64_t, std::pair<TriangleId, std::uint32_t>> open;
+    auto key = [](VertexId a, VertexId b) { return (static_cast<std::uint64_t>(a) << 32) | b; };
+    for (TriangleId t = 0; t < m.triangles.size(); ++t)
+        for (std::uint32_t i = 0; i < 3; ++i)
+            if (m.triangles[t].n[i] == kNoTriangle)
+                open.emplace(key(m.triangles[t].v[(i + 1) % 3], m.triangles[t].v[(i + 2) % 3]), std::pair{t, i});
+    for (TriangleId t = first; t < m.triangles.size(); ++t) {
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            Triangle& T = m.triangles[t];
+            auto it = open.find(key(T.v[(i + 2) % 3], T.v[(i + 1) % 3]));
+            if (it == open.end()) continue;
+            const auto [u, j] = it->second;
+            T.n[i] = u;
+            m.triangles[u].n[j] = t;
+            // The layers' outer edge is no loop edge of the mesh.
+            m.triangles[u].boundary = static_cast<std::uint8_t>(m.triangles[u].boundary & ~(1u << j));
+        }
+    }
+    // Layer triangles on a wall: loop edges.
+    std::unordered_map<std::uint64_t, bool> walls;
+    for (const MeshEdge& e : m.edges) walls.emplace(key(e.a, e.b), e.embedded);
+    for (TriangleId t = first; t < m.triangles.size(); ++t) {
+        Triangle& T = m.triangles[t];
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            auto it = walls.find(key(T.v[(i + 1) % 3], T.v[(i + 2) % 3]));
+            if (it == walls.end()) continue;
+            T.constrained = static_cast<std::uint8_t>(T.constrained | (1u << i));
+            if (!it->second) T.boundary = static_cast<std::uint8_t>(T.boundary | (1u << i));
+        }
     }
 }
 
@@ -114,6 +173,18 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         const double estimate = estimate_point_count(d, walls, rho, limit, observer);
         if (estimate > limit) refuse_too_many(estimate, options.max_points);
     }
+    // Boundary layers: their outer edge takes the walls' place for the stages below.
+    std::optional<GrownLayers> layers;
+    if (!options.boundary_layers.empty()) {
+        if (options.order == 2)
+            throw GeometryError(GeometryErrorKind::BadParameter,
+                                "second-order elements with boundary layers are not supported yet",
+                                {Subject::layers(0)});
+        layers = grow_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
+        walls = triangulate_boundary(layers->front);
+        r.quality.boundary_layers = layers->figures;
+    }
+    const Discretisation& fixed = layers ? layers->front : d;
     r.timings.boundary_ms = ms_since(t0);
 
     // Each stage is announced as it begins, so that progress (and a stop) is seen in the
@@ -125,7 +196,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     // Interior.
     begin(Stage::Interior);
     t0 = Clock::now();
-    std::vector<Vec2> inner = generate_interior_points(domain, d, walls, rho, options.interior, options.max_points,
+    std::vector<Vec2> inner = generate_interior_points(domain, fixed, walls, rho, options.interior, options.max_points,
                                                        observer, &r.stats.interior);
     {
         // Along a Hilbert curve: neighbours in the mesh become neighbours in memory, which
@@ -142,7 +213,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     t0 = Clock::now();
     std::vector<Vec2> pts = std::move(walls.points);
     pts.insert(pts.end(), inner.begin(), inner.end());
-    const std::vector<Constraint> cons = constraints_of(d);
+    const std::vector<Constraint> cons = constraints_of(fixed);
     TriangulationResult tr = options.triangulator == Triangulator::Delaunay
                                  ? triangulate_delaunay(pts, cons, observer)
                                  : triangulate_advancing_front(pts, cons, observer);
@@ -150,7 +221,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         MESHD_INTERNAL_CHECK(tr.alias[i] == i, "two mesh points coincide");
     r.stats.triangulation = tr.stats;
     Mesh& m = r.mesh;
-    assemble(m, domain, d, inner, std::move(tr.triangles));
+    assemble(m, domain, fixed, layers ? layers->boundary : d, inner, std::move(tr.triangles));
     r.timings.triangulation_ms = ms_since(t0);
 
     // Improvement.
@@ -163,11 +234,14 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             refine_min_angle(m, domain, rho, options.min_angle_deg, options.max_points, observer);
     r.timings.smoothing_ms = ms_since(t0);
 
+    if (layers) add_layers(m, *layers);
     EdgeNodeCounts edge_nodes;
     if (options.order == 2) edge_nodes = add_edge_nodes(m, domain);
 
     begin(Stage::Quality);
+    auto layer_figures = std::move(r.quality.boundary_layers);
     r.quality = measure_quality(m, rho);
+    r.quality.boundary_layers = std::move(layer_figures);
     r.quality.curved_edges = edge_nodes.curved;
     r.quality.straightened_edges = edge_nodes.straightened;
     if (m.order() == 2)

@@ -25,12 +25,13 @@ public:
 
 /// What part of the model an error is about.
 struct Subject {
-    enum class Kind { None, Point, Curve, Loop, Embedded, Density };
+    enum class Kind { None, Point, Curve, Loop, Embedded, Density, Layers };
     Kind kind = Kind::None;
     /// Point or curve name; for Density the entry ("size", "interior", a curve or tag
     /// name of the per-curve table, "min", "max", "gradation").
     std::string name;
-    /// Loop index or embedded-list index, when kind is Loop or Embedded (else -1).
+    /// Loop, embedded-list or boundary_layers index, when kind is Loop, Embedded or Layers
+    /// (else -1).
     int index = -1;
     /// Path below the object, e.g. {"control_points", "3"} or {"code"}; may be empty.
     std::vector<std::string> field;
@@ -43,6 +44,7 @@ struct Subject {
         return {Kind::Loop, {}, i, std::move(f)};
     }
     static Subject embedded(int i) { return {Kind::Embedded, {}, i, {}}; }
+    static Subject layers(int i, std::vector<std::string> f = {}) { return {Kind::Layers, {}, i, std::move(f)}; }
     static Subject density(std::string entry, std::vector<std::string> f = {}) {
         return {Kind::Density, std::move(entry), -1, std::move(f)};
     }

@@ -33,6 +33,7 @@ struct Triangle {
     std::array<TriangleId, 3> n;
     std::uint8_t constrained = 0;  ///< bit i: edge i is a constraint (loop or embedded segment)
     std::uint8_t boundary = 0;     ///< bit i: edge i is a loop segment (holes stop at it)
+    std::uint8_t layer = 0;        ///< 1: a cell of the boundary layers (a fan or a step)
 };
 
 /// Bit i of an edge flag byte.
@@ -45,6 +46,7 @@ enum class PointKind : std::uint8_t {
     Boundary,  ///< on a loop curve
     Embedded,  ///< on an embedded curve
     Interior,  ///< made by the advancing front or the refinement (may move in smoothing)
+    Layer,     ///< made by the boundary layers (never moves)
 };
 
 struct MeshEdge {
@@ -61,8 +63,13 @@ struct Mesh {
     /// own t); kNoCurve and 0 for corners and interior points.
     std::vector<CurveId> curve;
     std::vector<double> param;
-    /// Counter-clockwise, with neighbours (kNoTriangle across loop edges) and constraint bits.
+    /// Counter-clockwise, with neighbours (kNoTriangle across loop edges and edges shared
+    /// with a quad) and constraint bits. The boundary layers' triangles (fans at sharp
+    /// corners, steps where the layer count changes, or every layer cell when quads are
+    /// split) come after the others, marked `layer`.
     std::vector<Triangle> triangles;
+    /// The boundary layers' quadrilaterals, counter-clockwise, strictly convex.
+    std::vector<std::array<VertexId, 4>> quads;
     /// Loop edges in loop order, then embedded edges.
     std::vector<MeshEdge> edges;
     std::vector<std::string> tags;
@@ -96,7 +103,9 @@ struct Mesh {
 
 /// The figures of a mesh, as the service reports them (docs/api.md, "metrics").
 struct QualityMetrics {
-    size_t points = 0, boundary_points = 0, interior_points = 0, triangles = 0;
+    size_t points = 0, boundary_points = 0, interior_points = 0, triangles = 0, quads = 0;
+    /// The angles, radius ratios and size ratios below are those of the isotropic triangles
+    /// (not the boundary layers' cells, which `boundary_layers` describes).
     double angle_min = 0, angle_max = 0, angle_mean = 0;  ///< degrees
     /// Radius ratio 2 r_in / r_circ: 1 for an equilateral triangle.
     double quality_min = 0, quality_mean = 0;
@@ -109,6 +118,16 @@ struct QualityMetrics {
     /// Jacobian of any triangle (at its six nodes; 1 for a straight one).
     std::uint64_t curved_edges = 0, straightened_edges = 0;
     double scaled_jacobian_min = 1.0;
+    /// Per entry of MeshOptions::boundary_layers, the layers it made.
+    struct Layers {
+        int layers_min = 0, layers_max = 0;             ///< over its columns
+        double first_height_min = 0, first_height_max = 0;
+        double aspect_ratio_max = 0;                    ///< longest over shortest side, quads
+        double scaled_jacobian_min = 1;                 ///< quads, at their corners
+        std::uint64_t columns = 0, cut_back = 0;        ///< columns; those with fewer layers than asked
+        std::vector<Vec2> cut_back_at;                  ///< the middle of each run of cut-back columns (at most 16)
+    };
+    std::vector<Layers> boundary_layers;
 };
 
 /// Radius ratio 2 r_in / r_circ of a triangle: 1 when equilateral, 0 when degenerate.
@@ -118,7 +137,10 @@ double radius_ratio(Vec2 a, Vec2 b, Vec2 c);
 /// all hold): indices in range, counter-clockwise triangles of positive area (exact),
 /// symmetric adjacency, every edge of `edges` present (and only those edges without a
 /// neighbour), Euler characteristic V - E + F = 1 - holes, and empty circumcircles (exact
-/// in-circle) across every unconstrained edge when `delaunay` is set. The tests call it on
+/// in-circle) across every unconstrained edge when `delaunay` is set. With quads: each
+/// strictly convex and counter-clockwise, every edge shared by at most two cells in opposite
+/// directions (conforming, no overlap), F counting triangles and quads; layer triangles are
+/// not held to the in-circle test. The tests call it on
 /// every mesh they make.
 std::vector<std::string> check_mesh(const Mesh& mesh, bool delaunay = true);
 

@@ -10,6 +10,8 @@
 /// The server, the CLI, the benchmarks and the tests all call generate_mesh().
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "meshd/core/density.hpp"
 #include "meshd/core/domain.hpp"
@@ -57,6 +59,23 @@ inline size_t peak_bytes_for(double points) {
     return kPeakBytesBase + static_cast<size_t>(capped > 0.0 ? capped : 0.0) * kPeakBytesPerPoint;
 }
 
+/// Boundary layers (docs/api.md, "boundary_layers"): columns of thin cells grown from the
+/// graded points of wall curves, heights first_height * growth^k, until `layers` layers, the
+/// `thickness`, or a cell as tall as rho; cut back where they would meet another boundary or
+/// other layers.
+struct BoundaryLayerSpec {
+    /// Curve names or tags of loop curves (the layers grow on the domain's side).
+    std::vector<std::string> curves;
+    double first_height = 0.0;
+    double growth = 1.2;
+    int layers = 0;          ///< 0: not given (then thickness bounds them)
+    double thickness = 0.0;  ///< 0: not given
+    bool quads = true;       ///< false: each quad split along its shorter diagonal
+};
+
+/// The most layers one column may have (a request may ask for fewer).
+inline constexpr int kMaxLayers = 200;
+
 struct MeshOptions {
     int smoothing_iterations = 5;
     Triangulator triangulator = Triangulator::Delaunay;
@@ -74,6 +93,7 @@ struct MeshOptions {
     /// 1: straight 3-node triangles; 2: 6-node triangles whose edge nodes on the curves lie
     /// on the curves (Mesh::edge_nodes).
     int order = 1;
+    std::vector<BoundaryLayerSpec> boundary_layers;
 };
 
 struct StageTimings {

@@ -1,0 +1,754 @@
+#include "layers/layers.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include "geometry/curve.hpp"
+#include "kernel/crossings.hpp"
+#include "kernel/predicates.hpp"
+#include "meshd/core/errors.hpp"
+
+namespace meshd::core {
+
+namespace {
+
+using K = GeometryErrorKind;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+/// A column's lengthening at a concave corner is capped here (a corner of about 39 degrees).
+constexpr double kMaxStretch = 3.0;
+/// Columns keep below this share of the distance along their ray to another boundary.
+constexpr double kGapShare = 0.45;
+/// A sliding column reaches at most this share of the line it slides on.
+constexpr double kSlideShare = 0.3;
+/// A wall end slides along a line that meets it at a domain angle between these (degrees).
+constexpr double kSlideMinDeg = 20.0, kSlideMaxDeg = 160.0;
+
+Vec2 unit(Vec2 v) {
+    const double n = norm(v);
+    return n > 0.0 ? v / n : Vec2{0.0, 0.0};
+}
+Vec2 rotate(Vec2 v, double a) { return {v.x * std::cos(a) - v.y * std::sin(a), v.x * std::sin(a) + v.y * std::cos(a)}; }
+
+struct Column {
+    Column(VertexId b, Vec2 d, double s, int sp) : base(b), dir(d), stretch(s), spec(sp) {}
+    VertexId base;
+    Vec2 dir;        // unit, into the domain
+    double stretch;  // >= 1
+    int spec;
+    int want = 0;  // layers the spec and rho ask for
+    int n = 0;     // layers kept
+    /// A wall's end column that slides along the straight boundary curve it ends on: its
+    /// points lie on that line, measured from the base (the line's start or end).
+    CurveId slide = kNoCurve;
+    bool slide_at_start = false;
+    std::vector<std::uint32_t> ids;  // per level 0..n: the point's id in the cells
+};
+
+struct Chain {
+    size_t loop;
+    bool closed;
+    size_t first = 0, last = 0;  // open: the wall runs from loop vertex `first` to `last` (cyclic)
+    std::vector<Column> columns;
+};
+
+class Grower {
+public:
+    Grower(const Domain& domain, const Discretisation& d, const SizeField& rho,
+           const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer)
+        : domain_(domain), d_(d), rho_(rho), specs_(specs), max_points_(max_points), observer_(observer) {}
+
+    GrownLayers run() {
+        resolve_specs();
+        heights();
+        find_chains();
+        for (Chain& c : chains_) make_columns(c);
+        double points = static_cast<double>(d_.size());
+        for (Chain& c : chains_)
+            for (Column& col : c.columns) {
+                col.n = col.want = wanted(col);
+                points += col.n;
+            }
+        if (max_points_ && points > static_cast<double>(max_points_))
+            throw GeometryError(K::TooManyPoints,
+                                "the boundary layers alone would make " + std::to_string(static_cast<size_t>(points)) +
+                                    " points, more than the limit of " + std::to_string(max_points_),
+                                {Subject::layers(0)});
+        cut_by_rays();
+        for (Chain& c : chains_) spread(c);
+        while (cut_crossings()) {
+            if (observer_ && observer_->should_stop()) throw Cancelled();
+            for (Chain& c : chains_) spread(c);
+        }
+        return build();
+    }
+
+private:
+    // Which spec each curve belongs to; refuses names that are no loop curve.
+    void resolve_specs() {
+        spec_of_.assign(domain_.curves().size(), -1);
+        std::vector<bool> in_loop(domain_.curves().size(), false);
+        for (const DomainLoop& l : domain_.loops())
+            for (const CurveUse& u : l.items) in_loop[u.curve] = true;
+        for (size_t s = 0; s < specs_.size(); ++s) {
+            for (size_t k = 0; k < specs_[s].curves.size(); ++k) {
+                const std::string& key = specs_[s].curves[k];
+                bool matched = false;
+                for (CurveId c : domain_.curve_parts(key)) {
+                    if (!in_loop[c])
+                        throw GeometryError(K::BadParameter,
+                                            "boundary layers grow on loop curves; \"" + key + "\" is embedded",
+                                            {Subject::layers(static_cast<int>(s), {"curves", std::to_string(k)})});
+                    spec_of_[c] = static_cast<int>(s);
+                    matched = true;
+                }
+                for (CurveId c = 0; c < domain_.curves().size(); ++c) {
+                    if (domain_.tags()[domain_.curves()[c].tag] != key || !in_loop[c]) continue;
+                    if (spec_of_[c] < 0) spec_of_[c] = static_cast<int>(s);
+                    matched = true;
+                }
+                if (!matched)
+                    throw GeometryError(K::UnknownCurve,
+                                        "boundary_layers names \"" + key + "\", which is no loop curve and no tag",
+                                        {Subject::layers(static_cast<int>(s), {"curves", std::to_string(k)})});
+            }
+        }
+    }
+
+    // s_k per spec: the height of level k above the wall.
+    void heights() {
+        level_.resize(specs_.size());
+        for (size_t s = 0; s < specs_.size(); ++s) {
+            const BoundaryLayerSpec& sp = specs_[s];
+            auto& h = level_[s];
+            h.push_back(0.0);
+            double cell = sp.first_height;
+            for (int k = 0; k < kMaxLayers; ++k) {
+                h.push_back(h.back() + cell);
+                cell *= sp.growth;
+            }
+        }
+    }
+
+    size_t loop_offset(size_t li) const {
+        size_t off = 0;
+        for (size_t i = 0; i < li; ++i) off += d_.loops[i].size();
+        return off;
+    }
+
+    int segment_spec(size_t li, size_t i) const {
+        const BoundarySegment& s = d_.segments[loop_offset(li) + i];
+        return spec_of_[s.curve];
+    }
+
+    void find_chains() {
+        for (size_t li = 0; li < d_.loops.size(); ++li) {
+            const size_t m = d_.loops[li].size();
+            const size_t off = loop_offset(li);
+            std::vector<int> wall(m);
+            for (size_t i = 0; i < m; ++i) {
+                MESHD_INTERNAL_CHECK(d_.segments[off + i].a == d_.loops[li][i], "loop and segments disagree");
+                wall[i] = spec_of_[d_.segments[off + i].curve];
+            }
+            if (std::all_of(wall.begin(), wall.end(), [](int w) { return w >= 0; })) {
+                chains_.push_back({li, true, 0, m - 1, {}});
+                continue;
+            }
+            for (size_t i = 0; i < m; ++i) {
+                if (wall[i] < 0 || wall[(i + m - 1) % m] >= 0) continue;
+                size_t j = i;
+                while (wall[(j + 1) % m] >= 0) j = (j + 1) % m;
+                // Segments i..j are walls: vertices i..j+1.
+                chains_.push_back({li, false, i, (j + 1) % m, {}});
+            }
+        }
+    }
+
+    Vec2 pt(VertexId v) const { return d_.point(v); }
+
+    void make_columns(Chain& c) {
+        const auto& L = d_.loops[c.loop];
+        const size_t m = L.size();
+        std::vector<size_t> at;  // loop positions of the chain's vertices
+        if (c.closed) {
+            for (size_t i = 0; i < m; ++i) at.push_back(i);
+        } else {
+            for (size_t i = c.first;; i = (i + 1) % m) {
+                at.push_back(i);
+                if (i == c.last) break;
+            }
+        }
+        for (size_t q = 0; q < at.size(); ++q) {
+            const size_t i = at[q];
+            const VertexId v = L[i];
+            const bool start = !c.closed && q == 0, end = !c.closed && q + 1 == at.size();
+            const Vec2 prev = pt(L[(i + m - 1) % m]), next = pt(L[(i + 1) % m]);
+            const Vec2 t0 = unit(pt(v) - prev), t1 = unit(next - pt(v));
+            const Vec2 n0 = perp(t0), n1 = perp(t1);
+            const int spec_in = segment_spec(c.loop, (i + m - 1) % m), spec_out = segment_spec(c.loop, i);
+            if (start || end) {
+                // The wall's end: along the boundary line it ends on when that meets the wall
+                // at a fair angle (a symmetry line), else along the wall's normal.
+                const Vec2 wall_normal = start ? n1 : n0;
+                const size_t other_seg = start ? (i + m - 1) % m : i;
+                const CurveId line = d_.segments[loop_offset(c.loop) + other_seg].curve;
+                const Vec2 along = unit((start ? prev : next) - pt(v));
+                const Vec2 wall_dir = start ? t1 : -t0;
+                double angle = std::atan2(start ? cross(wall_dir, along) : cross(along, wall_dir), dot(wall_dir, along));
+                if (angle < 0) angle += 2 * std::numbers::pi;
+                Column col(v, wall_normal, 1.0, start ? spec_out : spec_in);
+                const bool straight = domain_.curves()[line].geometry->type() == CurveType::Line;
+                if (straight && angle >= kSlideMaxDeg * kDeg) {
+                    // The line goes on nearly straight from the wall (a trailing edge on a
+                    // symmetry line): a fan from the wall's normal round to the line, whose
+                    // last column slides on it.
+                    const double turn = std::atan2(cross(wall_normal, along), dot(wall_normal, along));
+                    const int sectors = std::max(1, static_cast<int>(std::ceil(std::fabs(turn) / (kFanStepDeg * kDeg))));
+                    std::vector<Column> fan;
+                    for (int k = 0; k <= sectors; ++k) {
+                        Column f = col;
+                        f.dir = unit(rotate(wall_normal, turn * k / sectors));
+                        fan.push_back(f);
+                    }
+                    fan.back().dir = along;
+                    fan.back().slide = line;
+                    fan.back().slide_at_start = d_.curve_vertices[line].front() == v;
+                    if (start) std::reverse(fan.begin(), fan.end());
+                    c.columns.insert(c.columns.end(), fan.begin(), fan.end());
+                    continue;
+                }
+                if (straight && angle > kSlideMinDeg * kDeg) {
+                    col.dir = along;
+                    const double cosine = dot(along, wall_normal);
+                    col.stretch = cosine > 1.0 / kMaxStretch ? 1.0 / cosine : kMaxStretch;
+                    col.slide = line;
+                    col.slide_at_start = d_.curve_vertices[line].front() == v;
+                }
+                c.columns.push_back(col);
+                continue;
+            }
+            const int spec = specs_[static_cast<size_t>(spec_in)].first_height <= specs_[static_cast<size_t>(spec_out)].first_height
+                                 ? spec_in
+                                 : spec_out;
+            const double turn = std::atan2(cross(t0, t1), dot(t0, t1));  // < 0: a convex corner of the wall
+            if (turn < -kFanTurnDeg * kDeg) {
+                const int sectors = static_cast<int>(std::ceil(-turn / (kFanStepDeg * kDeg)));
+                for (int k = 0; k <= sectors; ++k)
+                    c.columns.emplace_back(v, unit(rotate(n0, turn * k / sectors)), 1.0, spec);
+                continue;
+            }
+            Vec2 dir = unit(n0 + n1);
+            if (norm(dir) == 0.0) dir = n0;
+            const double cosine = dot(dir, n0);
+            const double stretch = cosine > 1.0 / kMaxStretch ? 1.0 / cosine : kMaxStretch;
+            c.columns.emplace_back(v, dir, stretch, spec);
+        }
+    }
+
+    Vec2 level_point(const Column& col, int k) const {
+        const double reach = col.stretch * level_[static_cast<size_t>(col.spec)][static_cast<size_t>(k)];
+        if (col.slide == kNoCurve) return pt(col.base) + reach * col.dir;
+        return on_line(col.slide, col.slide_at_start ? reach : domain_.curves()[col.slide].length - reach);
+    }
+
+    // The point of line c at distance s from its start, and its parameter.
+    double line_param(CurveId c, double s) const {
+        const Curve& g = *domain_.curves()[c].geometry;
+        return g.t_begin() + (g.t_end() - g.t_begin()) * (s / domain_.curves()[c].length);
+    }
+    Vec2 on_line(CurveId c, double s) const { return domain_.curves()[c].geometry->point(line_param(c, s)); }
+
+    // Layers the spec asks for at this column, stopping before a cell taller than rho.
+    int wanted(const Column& col) const {
+        const BoundaryLayerSpec& sp = specs_[static_cast<size_t>(col.spec)];
+        const auto& h = level_[static_cast<size_t>(col.spec)];
+        const int most = sp.layers > 0 ? std::min(sp.layers, kMaxLayers) : kMaxLayers;
+        int n = 0;
+        while (n < most) {
+            if (sp.thickness > 0.0 && h[static_cast<size_t>(n) + 1] > sp.thickness * (1.0 + 1e-12)) break;
+            if (col.slide != kNoCurve &&
+                col.stretch * h[static_cast<size_t>(n) + 1] > kSlideShare * domain_.curves()[col.slide].length)
+                break;
+            const double cell = col.stretch * (h[static_cast<size_t>(n) + 1] - h[static_cast<size_t>(n)]);
+            if (cell > rho_.interior(level_point(col, n))) break;
+            ++n;
+        }
+        return n;
+    }
+
+    int levels_within(const Column& col, double length) const {
+        const auto& h = level_[static_cast<size_t>(col.spec)];
+        int n = col.n;
+        while (n > 0 && col.stretch * h[static_cast<size_t>(n)] > length) --n;
+        return n;
+    }
+
+    // 1. Each column's ray (twice its length and more) against the boundary and the other rays.
+    void cut_by_rays() {
+        detail::SegmentSoup soup;
+        soup.points.assign(d_.x.size(), {});
+        for (VertexId v = 0; v < d_.size(); ++v) soup.points[v] = pt(v);
+        for (const BoundarySegment& s : d_.segments) soup.segments.push_back({s.a, s.b});
+        const size_t boundary = soup.segments.size();
+        std::vector<Column*> ray_of;
+        for (Chain& c : chains_) {
+            for (Column& col : c.columns) {
+                if (col.n == 0 || col.slide != kNoCurve) continue;
+                const double reach = 2.5 * col.stretch * level_[static_cast<size_t>(col.spec)][static_cast<size_t>(col.n)];
+                soup.points.push_back(pt(col.base) + reach * col.dir);
+                soup.segments.push_back({col.base, static_cast<std::uint32_t>(soup.points.size() - 1)});
+                ray_of.push_back(&col);
+            }
+        }
+        std::vector<double> cap(ray_of.size(), HUGE_VAL);
+        auto along = [&](size_t r, Vec2 p) { return dot(p - pt(ray_of[r]->base), ray_of[r]->dir); };
+        detail::for_each_crossing(soup, [&](std::uint32_t i, std::uint32_t j) {
+            if (j < boundary) return;
+            const size_t rj = j - boundary;
+            const auto& sj = soup.segments[j];
+            const Vec2 a = soup.points[sj[0]], b = soup.points[sj[1]];
+            const auto& si = soup.segments[i];
+            const Vec2 c = soup.points[si[0]], e = soup.points[si[1]];
+            // Where the two lines meet (parallel overlaps: the nearer end of the other).
+            const double den = cross(b - a, e - c);
+            Vec2 x;
+            if (den != 0.0) x = a + (cross(c - a, e - c) / den) * (b - a);
+            else x = dot(c - a, b - a) < dot(e - a, b - a) ? c : e;
+            if (i < boundary) {
+                cap[rj] = std::min(cap[rj], kGapShare * along(rj, x));
+            } else {
+                const size_t ri = i - boundary;
+                cap[rj] = std::min(cap[rj], 0.9 * along(rj, x));
+                cap[ri] = std::min(cap[ri], 0.9 * along(ri, x));
+            }
+        });
+        for (size_t r = 0; r < ray_of.size(); ++r)
+            if (cap[r] < HUGE_VAL) ray_of[r]->n = levels_within(*ray_of[r], std::max(cap[r], 0.0));
+    }
+
+    // 2. Neighbouring columns differ by at most one layer.
+    static void spread(Chain& c) {
+        auto& cols = c.columns;
+        const size_t n = cols.size();
+        if (n < 2) return;
+        const int rounds = c.closed ? 2 : 1;
+        for (int r = 0; r < rounds; ++r) {
+            for (size_t i = 1; i < n + (c.closed ? 1 : 0); ++i)
+                cols[i % n].n = std::min(cols[i % n].n, cols[i - 1].n + 1);
+            for (size_t i = n - 1; i-- > 0;) cols[i].n = std::min(cols[i].n, cols[i + 1].n + 1);
+            if (c.closed) cols[n - 1].n = std::min(cols[n - 1].n, cols[0].n + 1);
+        }
+    }
+
+    // The boundary as the layers leave it: each line that columns slide on holds their points
+    // next to its ends (curve points, appended after the discretisation's), its own inner
+    // points spread over what remains of it in proportion (no point is lost), and the loops
+    // are linked again. Sets the ids of the sliding columns' points.
+    Discretisation make_boundary() {
+        Discretisation b = d_;
+        std::map<CurveId, std::array<Column*, 2>> slides;  // line -> columns at its start, end
+        for (Chain& c : chains_)
+            for (Column& col : c.columns) {
+                col.ids.assign(1, col.base);
+                if (col.slide != kNoCurve) slides[col.slide][col.slide_at_start ? 0 : 1] = &col;
+            }
+        for (auto& [line, ends] : slides) {
+            const double len = domain_.curves()[line].length;
+            auto reach = [&](const Column* col) {
+                return col ? col->stretch * level_[static_cast<size_t>(col->spec)][static_cast<size_t>(col->n)] : 0.0;
+            };
+            const double from = reach(ends[0]), to = reach(ends[1]);
+            auto add = [&](double at) {
+                const Vec2 p = on_line(line, at);
+                b.x.push_back(p.x);
+                b.y.push_back(p.y);
+                b.curve.push_back(line);
+                b.param.push_back(line_param(line, at));
+                b.rho.push_back(0.0);  // set with the front's below
+                return static_cast<std::uint32_t>(b.x.size() - 1);
+            };
+            const auto& old = d_.curve_vertices[line];
+            std::vector<VertexId> chain{old.front()};
+            if (Column* col = ends[0])
+                for (int l = 1; l <= col->n; ++l) chain.push_back(col->ids.emplace_back(add(col->stretch * level_[static_cast<size_t>(col->spec)][static_cast<size_t>(l)])));
+            const Vec2 start = pt(old.front());
+            for (size_t i = 1; i + 1 < old.size(); ++i) {
+                const double at = from + distance(start, pt(old[i])) * (len - from - to) / len;
+                const Vec2 p = on_line(line, at);
+                b.x[old[i]] = p.x;
+                b.y[old[i]] = p.y;
+                b.param[old[i]] = line_param(line, at);
+                chain.push_back(old[i]);
+            }
+            if (Column* col = ends[1]) {
+                std::vector<VertexId> up;
+                for (int l = 1; l <= col->n; ++l)
+                    up.push_back(col->ids.emplace_back(add(len - col->stretch * level_[static_cast<size_t>(col->spec)][static_cast<size_t>(l)])));
+                chain.insert(chain.end(), up.rbegin(), up.rend());
+            }
+            chain.push_back(old.back());
+            b.curve_vertices[line] = std::move(chain);
+        }
+        link_loops(domain_, b);
+        return b;
+    }
+
+    // The edges and cells of the layers as they stand. A point is (chain, column, level).
+    struct LayerPoint {
+        std::uint32_t chain, column;
+        int level;
+    };
+
+    // 3. One round: cells that are not strictly convex, or edges that cross, lose the layers
+    // from there up. True when anything was cut.
+    bool cut_crossings() {
+        if (observer_ && observer_->should_stop()) throw Cancelled();
+        const Discretisation b = make_boundary();
+        detail::SegmentSoup soup;
+        soup.points.reserve(b.size());
+        for (VertexId v = 0; v < b.size(); ++v) soup.points.push_back(b.point(v));
+        std::vector<LayerPoint> owner(b.size(), LayerPoint{UINT32_MAX, 0, 0});
+        for (const BoundarySegment& s : b.segments) soup.segments.push_back({s.a, s.b});
+        for (std::uint32_t ci = 0; ci < chains_.size(); ++ci) {
+            for (std::uint32_t k = 0; k < chains_[ci].columns.size(); ++k) {
+                Column& col = chains_[ci].columns[k];
+                for (int l = 1; l <= col.n; ++l) {
+                    if (col.slide == kNoCurve) {
+                        col.ids.push_back(static_cast<std::uint32_t>(soup.points.size()));
+                        soup.points.push_back(level_point(col, l));
+                        owner.push_back({ci, k, l});
+                    } else {
+                        owner[col.ids[static_cast<size_t>(l)]] = {ci, k, l};
+                    }
+                }
+            }
+        }
+        bool cut = false;
+        auto drop = [&](std::uint32_t p) {
+            if (p >= owner.size() || owner[p].chain == UINT32_MAX) return;
+            Column& col = chains_[owner[p].chain].columns[owner[p].column];
+            if (col.n >= owner[p].level) {
+                col.n = owner[p].level - 1;
+                cut = true;
+            }
+        };
+        auto edge = [&](std::uint32_t a, std::uint32_t e) {
+            if (a != e) soup.segments.push_back({a, e});
+        };
+        auto cell = [&](std::initializer_list<std::uint32_t> v) {
+            const std::vector<std::uint32_t> c(v);
+            const size_t n = c.size();
+            for (size_t i = 0; i < n; ++i) {
+                if (orient2d(soup.points[c[i]], soup.points[c[(i + 1) % n]], soup.points[c[(i + 2) % n]]) !=
+                    Orientation::Left) {
+                    for (std::uint32_t p : c) drop(p);  // the cell's points above the wall go
+                    return;
+                }
+            }
+        };
+        for (std::uint32_t ci = 0; ci < chains_.size(); ++ci) {
+            const Chain& ch = chains_[ci];
+            const size_t nc = ch.columns.size();
+            for (size_t k = 0; k < nc; ++k) {
+                const auto& P = ch.columns[k].ids;
+                if (ch.columns[k].slide == kNoCurve)  // a sliding column's sides are the boundary's
+                    for (size_t l = 0; l + 1 < P.size(); ++l) edge(P[l], P[l + 1]);
+                if (k + 1 == nc && !ch.closed) continue;
+                const auto& Q = ch.columns[(k + 1) % nc].ids;
+                const size_t na = P.size() - 1, nb = Q.size() - 1, common = std::min(na, nb);
+                const bool fan = P[0] == Q[0];
+                for (size_t l = 0; l < common; ++l) {
+                    edge(P[l + 1], Q[l + 1]);
+                    if (l == 0 && fan) cell({P[0], Q[1], P[1]});
+                    else cell({P[l], Q[l], Q[l + 1], P[l + 1]});
+                }
+                for (size_t l = nb; l < na; ++l) {
+                    if (l == 0 && fan) continue;
+                    edge(Q[nb], P[l + 1]);
+                    cell({P[l], Q[nb], P[l + 1]});
+                }
+                for (size_t l = na; l < nb; ++l) {
+                    if (l == 0 && fan) continue;
+                    edge(P[na], Q[l + 1]);
+                    cell({P[na], Q[l], Q[l + 1]});
+                }
+            }
+        }
+        detail::for_each_crossing(soup, [&](std::uint32_t i, std::uint32_t j) {
+            for (std::uint32_t s : {i, j}) {
+                const auto& e = soup.segments[s];
+                const int la = owner[e[0]].chain != UINT32_MAX ? owner[e[0]].level : 0;
+                const int lb = owner[e[1]].chain != UINT32_MAX ? owner[e[1]].level : 0;
+                if (la == 0 && lb == 0) continue;  // the boundary's own
+                if (la >= lb) drop(e[0]);
+                if (lb >= la) drop(e[1]);
+            }
+        });
+        return cut;
+    }
+
+    GrownLayers build() {
+        GrownLayers g;
+        g.boundary = make_boundary();
+        Discretisation& f = g.front;
+        f = g.boundary;
+        f.loops.clear();
+        f.segments.clear();
+        auto add_front = [&](Vec2 p) {
+            f.x.push_back(p.x);
+            f.y.push_back(p.y);
+            f.curve.push_back(kNoCurve);
+            f.param.push_back(0.0);
+            f.rho.push_back(0.0);  // set from the front's segments below
+            return static_cast<std::uint32_t>(f.x.size() - 1);
+        };
+        auto add_hidden = [&](Vec2 p) {
+            g.hidden.push_back(p);
+            return GrownLayers::kHidden | static_cast<std::uint32_t>(g.hidden.size() - 1);
+        };
+        for (Chain& c : chains_) {
+            const size_t nc = c.columns.size();
+            for (size_t k = 0; k < nc; ++k) {
+                Column& col = c.columns[k];
+                if (col.slide != kNoCurve) continue;  // its points are the boundary's
+                const bool side = !c.closed && (k == 0 || k + 1 == nc);
+                for (int l = 1; l <= col.n; ++l) {
+                    const Vec2 p = level_point(col, l);
+                    col.ids.push_back(side || l == col.n ? add_front(p) : add_hidden(p));
+                }
+            }
+        }
+        // Each chain's part of the front: its columns' tops, and the whole of an end column
+        // that stands free (its side borders the interior).
+        std::vector<std::vector<VertexId>> fronts(chains_.size());
+        for (size_t ci = 0; ci < chains_.size(); ++ci) {
+            const Chain& c = chains_[ci];
+            auto& out = fronts[ci];
+            auto push = [&](std::uint32_t v) {
+                if (out.empty() || out.back() != v) out.push_back(v);
+            };
+            const size_t nc = c.columns.size();
+            for (size_t k = 0; k < nc; ++k) {
+                const Column& col = c.columns[k];
+                const bool free_side = !c.closed && col.slide == kNoCurve && (k == 0 || k + 1 == nc);
+                if (free_side && k == 0) {
+                    for (std::uint32_t v : col.ids) push(v);
+                } else if (free_side) {
+                    for (size_t l = col.ids.size(); l-- > 0;) push(col.ids[l]);
+                } else {
+                    push(col.ids.back());
+                }
+            }
+            if (c.closed && out.size() > 1 && out.front() == out.back()) out.pop_back();
+        }
+        // The loops: each chain's stretch of its loop (from its first front point to its
+        // last, which lie on the loop) replaced by its front.
+        const Discretisation& b = g.boundary;
+        for (size_t li = 0; li < b.loops.size(); ++li) {
+            const auto& L = b.loops[li];
+            const size_t m = L.size();
+            std::vector<VertexId> cycle;
+            std::vector<int> opens(b.size() + 1, -1);
+            bool closed = false;
+            for (size_t ci = 0; ci < chains_.size(); ++ci) {
+                if (chains_[ci].loop != li) continue;
+                if (chains_[ci].closed) {
+                    cycle = fronts[ci];
+                    closed = true;
+                } else {
+                    opens[fronts[ci].front()] = static_cast<int>(ci);
+                }
+            }
+            if (!closed) {
+                size_t start = 0;
+                for (size_t i = 0; i < m; ++i)
+                    for (size_t ci = 0; ci < chains_.size(); ++ci)
+                        if (chains_[ci].loop == li && !chains_[ci].closed && fronts[ci].back() == L[i]) start = i;
+                size_t i = start, walked = 0;
+                while (walked < m) {
+                    const int ci = opens[L[i]];
+                    if (ci >= 0 && walked > 0) {
+                        for (VertexId v : fronts[static_cast<size_t>(ci)])
+                            if (cycle.empty() || cycle.back() != v) cycle.push_back(v);
+                        while (L[i] != fronts[static_cast<size_t>(ci)].back() && walked < m) {
+                            i = (i + 1) % m;
+                            ++walked;
+                        }
+                        continue;
+                    }
+                    if (cycle.empty() || cycle.back() != L[i]) cycle.push_back(L[i]);
+                    i = (i + 1) % m;
+                    ++walked;
+                }
+                if (cycle.size() > 1 && cycle.front() == cycle.back()) cycle.pop_back();
+            }
+            f.loops.push_back(std::move(cycle));
+        }
+        // Segments: the boundary's where both ends follow each other there, else the front's.
+        std::vector<std::pair<std::uint64_t, CurveId>> original;
+        for (size_t i = 0; i < b.loop_segment_count; ++i)
+            original.push_back({(static_cast<std::uint64_t>(b.segments[i].a) << 32) | b.segments[i].b, b.segments[i].curve});
+        std::sort(original.begin(), original.end());
+        for (const auto& cycle : f.loops) {
+            for (size_t i = 0; i < cycle.size(); ++i) {
+                const VertexId a = cycle[i], e = cycle[(i + 1) % cycle.size()];
+                const std::uint64_t key = (static_cast<std::uint64_t>(a) << 32) | e;
+                auto it = std::lower_bound(original.begin(), original.end(), std::pair{key, CurveId{0}});
+                f.segments.push_back({a, e, it != original.end() && it->first == key ? it->second : kNoCurve});
+            }
+        }
+        f.loop_segment_count = f.segments.size();
+        for (size_t i = b.loop_segment_count; i < b.segments.size(); ++i) f.segments.push_back(b.segments[i]);
+        // The new points take the mean length of their segments as their size.
+        std::vector<double> len_sum(f.size(), 0.0);
+        std::vector<int> len_count(f.size(), 0);
+        for (size_t i = 0; i < f.loop_segment_count; ++i) {
+            const double len = distance(f.point(f.segments[i].a), f.point(f.segments[i].b));
+            for (VertexId v : {f.segments[i].a, f.segments[i].b}) {
+                len_sum[v] += len;
+                ++len_count[v];
+            }
+        }
+        for (VertexId v = static_cast<VertexId>(d_.size()); v < f.size(); ++v)
+            f.rho[v] = len_count[v] ? len_sum[v] / len_count[v] : rho_.interior(f.point(v));
+        for (VertexId v = static_cast<VertexId>(d_.size()); v < g.boundary.size(); ++v) g.boundary.rho[v] = f.rho[v];
+
+        cells(g);
+        figures(g);
+        split_quads(g);
+        return g;
+    }
+
+    void cells(GrownLayers& g) {
+        for (Chain& c : chains_) {
+            const size_t nc = c.columns.size();
+            for (size_t k = 0; k < nc; ++k) {
+                if (k + 1 == nc && !c.closed) break;
+                const auto& P = c.columns[k].ids;
+                const auto& Q = c.columns[(k + 1) % nc].ids;
+                const size_t na = P.size() - 1, nb = Q.size() - 1, common = std::min(na, nb);
+                const bool fan = P[0] == Q[0];
+                for (size_t l = 0; l < common; ++l) {
+                    if (l == 0 && fan) g.triangles.push_back({P[0], Q[1], P[1]});
+                    else g.quads.push_back({P[l], Q[l], Q[l + 1], P[l + 1]});
+                    quad_spec_.push_back(c.columns[k].spec);
+                    if (l == 0 && fan) quad_spec_.pop_back();
+                }
+                for (size_t l = nb; l < na; ++l)
+                    if (!(l == 0 && fan)) g.triangles.push_back({P[l], Q[nb], P[l + 1]});
+                for (size_t l = na; l < nb; ++l)
+                    if (!(l == 0 && fan)) g.triangles.push_back({P[na], Q[l], Q[l + 1]});
+            }
+        }
+    }
+
+    // The quads of entries that asked for triangles: split along their shorter diagonal.
+    void split_quads(GrownLayers& g) const {
+        std::vector<std::array<std::uint32_t, 4>> kept;
+        for (size_t q = 0; q < g.quads.size(); ++q) {
+            const auto& Q = g.quads[q];
+            if (specs_[static_cast<size_t>(quad_spec_[q])].quads) {
+                kept.push_back(Q);
+                continue;
+            }
+            if (distance(cell_point(g, Q[0]), cell_point(g, Q[2])) <= distance(cell_point(g, Q[1]), cell_point(g, Q[3]))) {
+                g.triangles.push_back({Q[0], Q[1], Q[2]});
+                g.triangles.push_back({Q[0], Q[2], Q[3]});
+            } else {
+                g.triangles.push_back({Q[0], Q[1], Q[3]});
+                g.triangles.push_back({Q[1], Q[2], Q[3]});
+            }
+        }
+        g.quads = std::move(kept);
+    }
+
+    Vec2 cell_point(const GrownLayers& g, std::uint32_t id) const {
+        if (id & GrownLayers::kHidden) return g.hidden[id & ~GrownLayers::kHidden];
+        return g.front.point(id);
+    }
+
+    void figures(GrownLayers& g) {
+        g.figures.assign(specs_.size(), {});
+        std::vector<bool> seen(specs_.size(), false);
+        for (Chain& c : chains_) {
+            const size_t nc = c.columns.size();
+            bool in_run = false;
+            size_t run_start = 0;
+            auto close_run = [&](size_t end) {
+                const Column& mid = c.columns[(run_start + end) / 2];
+                auto& fig = g.figures[static_cast<size_t>(mid.spec)];
+                if (fig.cut_back_at.size() < 16) fig.cut_back_at.push_back(pt(mid.base));
+                in_run = false;
+            };
+            for (size_t k = 0; k < nc; ++k) {
+                const Column& col = c.columns[k];
+                auto& fig = g.figures[static_cast<size_t>(col.spec)];
+                if (!seen[static_cast<size_t>(col.spec)]) {
+                    fig.layers_min = fig.layers_max = col.n;
+                    fig.first_height_min = HUGE_VAL;
+                    fig.first_height_max = 0.0;
+                    seen[static_cast<size_t>(col.spec)] = true;
+                }
+                fig.layers_min = std::min(fig.layers_min, col.n);
+                fig.layers_max = std::max(fig.layers_max, col.n);
+                ++fig.columns;
+                const bool short_of = col.n < col.want;
+                if (short_of) ++fig.cut_back;
+                if (short_of && !in_run) {
+                    in_run = true;
+                    run_start = k;
+                } else if (!short_of && in_run) {
+                    close_run(k - 1);
+                }
+                // The first cell's height over the wall segment to the next column.
+                if (k + 1 == nc && !c.closed) continue;
+                const Column& nxt = c.columns[(k + 1) % nc];
+                if (nxt.base == col.base || col.n == 0 || nxt.n == 0) continue;
+                const Vec2 a = pt(col.base), b = pt(nxt.base);
+                const Vec2 mid = 0.5 * (cell_point(g, col.ids[1]) + cell_point(g, nxt.ids[1]));
+                const double h = std::fabs(cross(b - a, mid - a)) / distance(a, b);
+                fig.first_height_min = std::min(fig.first_height_min, h);
+                fig.first_height_max = std::max(fig.first_height_max, h);
+            }
+            if (in_run) close_run(nc - 1);
+        }
+        for (auto& fig : g.figures)
+            if (fig.first_height_min == HUGE_VAL) fig.first_height_min = 0.0;
+        for (size_t q = 0; q < g.quads.size(); ++q) {
+            auto& fig = g.figures[static_cast<size_t>(quad_spec_[q])];
+            std::array<Vec2, 4> p;
+            for (size_t i = 0; i < 4; ++i) p[i] = cell_point(g, g.quads[q][i]);
+            double lo = HUGE_VAL, hi = 0.0;
+            for (size_t i = 0; i < 4; ++i) {
+                const double len = distance(p[i], p[(i + 1) % 4]);
+                lo = std::min(lo, len);
+                hi = std::max(hi, len);
+                const Vec2 e1 = p[(i + 1) % 4] - p[i], e0 = p[(i + 3) % 4] - p[i];
+                fig.scaled_jacobian_min = std::min(fig.scaled_jacobian_min, cross(e1, e0) / (norm(e1) * norm(e0)));
+            }
+            fig.aspect_ratio_max = std::max(fig.aspect_ratio_max, hi / lo);
+        }
+    }
+
+    const Domain& domain_;
+    const Discretisation& d_;
+    const SizeField& rho_;
+    const std::vector<BoundaryLayerSpec>& specs_;
+    size_t max_points_;
+    Observer* observer_;
+    std::vector<int> spec_of_;
+    std::vector<std::vector<double>> level_;
+    std::vector<Chain> chains_;
+    std::vector<int> quad_spec_;
+};
+
+}  // namespace
+
+GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
+                        const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer) {
+    return Grower(domain, d, rho, specs, max_points, observer).run();
+}
+
+}  // namespace meshd::core

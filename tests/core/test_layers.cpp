@@ -1,0 +1,297 @@
+// Boundary layers on airfoils, a high-lift configuration, a half airfoil on a symmetry line,
+// a cylinder and holes close together: the hybrid mesh is valid (every cell positive and
+// convex, conforming, Euler), the layers keep the asked first height and growth where they
+// stand on a wall, cut-backs are reported, both triangulators agree, runs repeat exactly.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "fixtures.hpp"
+
+#include "meshd/core/errors.hpp"
+#include "meshd/core/mesher.hpp"
+
+using namespace meshd::core;
+using namespace meshd::test;
+
+namespace {
+
+struct LayerCase {
+    std::string name;
+    DomainSpec domain;
+    DensitySpec density;
+    std::vector<BoundaryLayerSpec> layers;
+    bool narrow;  // the layers must be cut back somewhere
+};
+
+DensitySpec size(std::string expr) {
+    DensitySpec d;
+    d.size = std::move(expr);
+    return d;
+}
+
+BoundaryLayerSpec spec(std::vector<std::string> curves, double first, double growth, int layers, double thickness = 0) {
+    BoundaryLayerSpec s;
+    s.curves = std::move(curves);
+    s.first_height = first;
+    s.growth = growth;
+    s.layers = layers;
+    s.thickness = thickness;
+    return s;
+}
+
+LayerCase naca(const std::string& code, double growth, int layers) {
+    DensitySpec d;
+    d.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
+                {"wing", std::string("0.003 + 0.05*sqrt((x+0.01)^2+y^2)")}};
+    return {"naca" + code, naca_in_circle(code, 10.0), d, {spec({"wing"}, 1e-5, growth, layers)}, false};
+}
+
+LayerCase three_element() {
+    DomainSpec s;
+    s.points = {{"F", {10.5, 0.0}}};
+    NacaSpec main_wing{"2412", {1.0, {0.0, 0.0}, 0.0}, TrailingEdge::Closed, AirfoilSurface::Both};
+    NacaSpec slat{"0012", {0.15, {-0.17, -0.03}, 20.0}, TrailingEdge::Closed, AirfoilSurface::Both};
+    NacaSpec flap{"0012", {0.3, {1.01, -0.04}, 20.0}, TrailingEdge::Open, AirfoilSurface::Both};
+    s.curves.push_back({"main", main_wing, std::nullopt, std::nullopt, std::string("wall")});
+    s.curves.push_back({"slat", slat, std::nullopt, std::nullopt, std::string("wall")});
+    s.curves.push_back({"flap", flap, std::nullopt, std::nullopt, std::string("wall")});
+    s.curves.push_back(arc("farfield", "F", "F", {0.5, 0.0}));
+    s.loops = {loop({"farfield"}), loop({"main"}), loop({"slat"}), loop({"flap"})};
+    return {"three-element", s, size("0.004 + 0.08*sqrt((x-0.5)^2+y^2)"), {spec({"wall"}, 1e-5, 1.2, 40)}, true};
+}
+
+LayerCase half_airfoil() {
+    DomainSpec s;
+    s.points = {{"LE", {0, 0}}, {"TE", {1, 0}}, {"F1", {6.5, 0}}, {"F2", {-5.5, 0}}};
+    NacaSpec upper{"0012", {}, TrailingEdge::Closed, AirfoilSurface::Upper};
+    s.curves.push_back({"wing", upper, std::string("TE"), std::string("LE"), std::string("wall")});
+    s.curves.push_back(line("wake_side", "TE", "F1", "symmetry"));
+    s.curves.push_back(arc("farfield", "F1", "F2", {0.5, 0.0}));
+    s.curves.push_back(line("front_side", "F2", "LE", "symmetry"));
+    s.loops = {loop({"wake_side", "farfield", "front_side", "-wing"})};
+    return {"half-airfoil", s, size("0.004 + 0.08*sqrt((x-0.5)^2+y^2)"), {spec({"wing"}, 1e-4, 1.2, 20)}, false};
+}
+
+LayerCase cylinder() {
+    DomainSpec s;
+    s.points = {{"A", {0, 0}}, {"B", {10, 0}}, {"C", {10, 10}}, {"D", {0, 10}}, {"P", {5.5, 5}}};
+    s.curves = {line("bottom", "A", "B", "wall"), line("right", "B", "C", "outlet"), line("top", "C", "D", "wall"),
+                line("left", "D", "A", "inlet"), arc("cylinder", "P", "P", {5, 5}, ArcDirection::Ccw, "cylinder")};
+    s.loops = {loop({"bottom", "right", "top", "left"}), loop({"cylinder"})};
+    return {"cylinder", s, size("0.03 + 0.05*sqrt((x-5)^2+(y-5)^2)"), {spec({"cylinder"}, 1e-3, 1.2, 0, 0.1)}, false};
+}
+
+// Three holes 0.02 apart, layers up to 0.05 thick on each: they must give way to each other.
+LayerCase holes_close_together() {
+    DomainSpec s;
+    s.points = {{"A", {0, 0}}, {"B", {4, 0}}, {"C", {4, 2}}, {"D", {0, 2}}};
+    s.curves = {line("bottom", "A", "B"), line("right", "B", "C"), line("top", "C", "D"), line("left", "D", "A")};
+    s.loops = {loop({"bottom", "right", "top", "left"})};
+    for (int i = 0; i < 3; ++i) {
+        const std::string n = "h" + std::to_string(i);
+        const Vec2 c{1.38 + 0.62 * i, 1.0};
+        s.points.push_back({n, c + Vec2{0.3, 0.0}});
+        s.curves.push_back(arc(n, n, n, c, ArcDirection::Ccw, "hole"));
+        s.loops.push_back(loop({n.c_str()}));
+    }
+    return {"holes-close-together", s, size("0.02"), {spec({"hole"}, 1e-3, 1.1, 0, 0.05)}, true};
+}
+
+// A blunt trailing edge: the base's two corners turn by about 90 degrees each and get fans.
+LayerCase blunt_trailing_edge() {
+    DomainSpec s;
+    s.points = {{"F", {10.5, 0.0}}};
+    NacaSpec wing{"0012", {}, TrailingEdge::Open, AirfoilSurface::Both};
+    s.curves.push_back({"wing", wing, std::nullopt, std::nullopt, std::string("wall")});
+    s.curves.push_back(arc("farfield", "F", "F", {0.5, 0.0}));
+    s.loops = {loop({"farfield"}), loop({"wing"})};
+    return {"blunt-trailing-edge", s, size("0.002 + 0.08*sqrt((x-0.5)^2+y^2)"), {spec({"wing"}, 1e-5, 1.2, 30)}, false};
+}
+
+std::vector<LayerCase> cases() {
+    return {naca("0012", 1.15, 30), naca("4412", 1.25, 20), three_element(), half_airfoil(),
+            cylinder(),             holes_close_together(), blunt_trailing_edge()};
+}
+
+MeshResult mesh(const LayerCase& c, Triangulator tr = Triangulator::Delaunay) {
+    MeshOptions o;
+    o.boundary_layers = c.layers;
+    o.triangulator = tr;
+    return generate_mesh(c.domain, c.density, o);
+}
+
+// The wall's layer stacks, read from the mesh alone: for each wall edge with a quad on it,
+// the heights of the levels above it (the distance of each quad top's middle from the wall
+// edge's line).
+std::vector<std::vector<double>> stacks(const Mesh& m, const std::set<std::string>& wall_tags) {
+    std::map<std::pair<VertexId, VertexId>, size_t> by_bottom;
+    for (size_t q = 0; q < m.quads.size(); ++q) by_bottom[{m.quads[q][0], m.quads[q][1]}] = q;
+    std::vector<std::vector<double>> out;
+    for (const MeshEdge& e : m.edges) {
+        if (!wall_tags.count(m.tags[e.tag])) continue;
+        auto it = by_bottom.find({e.a, e.b});
+        if (it == by_bottom.end()) continue;
+        const Vec2 a = m.point(e.a), b = m.point(e.b);
+        std::vector<double> heights;
+        while (it != by_bottom.end()) {
+            const auto& Q = m.quads[it->second];
+            const Vec2 mid = 0.5 * (m.point(Q[2]) + m.point(Q[3]));
+            heights.push_back(std::fabs(cross(b - a, mid - a)) / distance(a, b));
+            it = by_bottom.find({Q[3], Q[2]});
+        }
+        out.push_back(std::move(heights));
+    }
+    return out;
+}
+
+class Layers : public ::testing::TestWithParam<LayerCase> {};
+
+TEST_P(Layers, TheHybridMeshIsValidAndTheLayersKeepTheirHeights) {
+    const LayerCase& c = GetParam();
+    const MeshResult r = mesh(c);
+    const Mesh& m = r.mesh;
+    const auto problems = check_mesh(m);
+    EXPECT_TRUE(problems.empty()) << c.name << ": " << (problems.empty() ? "" : problems.front());
+    EXPECT_FALSE(m.quads.empty()) << c.name;
+    ASSERT_EQ(r.quality.boundary_layers.size(), c.layers.size());
+    const BoundaryLayerSpec& s = c.layers[0];
+    const auto& fig = r.quality.boundary_layers[0];
+
+    std::set<std::string> walls;
+    for (const std::string& name : s.curves) walls.insert(name);
+    for (const auto& cs : c.domain.curves)
+        if (walls.count(cs.name) && cs.tag) walls.insert(*cs.tag);
+    const auto st = stacks(m, walls);
+    ASSERT_FALSE(st.empty()) << c.name;
+    size_t levels = 0;
+    for (const auto& h : st) {
+        // First height and growth, from the geometry: s_1 = first, s_(k+1) - s_k = growth (s_k - s_(k-1)).
+        EXPECT_NEAR(h[0], s.first_height, 0.01 * s.first_height) << c.name;
+        for (size_t k = 1; k < h.size(); ++k) {
+            const double below = k == 1 ? h[0] : h[k - 1] - h[k - 2];
+            EXPECT_NEAR((h[k] - h[k - 1]) / below, s.growth, 0.01 * s.growth) << c.name << " level " << k;
+        }
+        if (s.layers) {
+            EXPECT_LE(h.size(), static_cast<size_t>(s.layers)) << c.name;
+        }
+        if (s.thickness > 0) {
+            EXPECT_LE(h.back(), s.thickness * (1 + 1e-9)) << c.name;
+        }
+        levels += h.size();
+    }
+    EXPECT_GT(levels, 3 * st.size()) << c.name << ": the walls hold layers";
+    EXPECT_NEAR(fig.first_height_min, s.first_height, 0.01 * s.first_height) << c.name;
+    EXPECT_NEAR(fig.first_height_max, s.first_height, 0.01 * s.first_height) << c.name;
+    EXPECT_GT(fig.scaled_jacobian_min, 0.0) << c.name;
+    EXPECT_GE(fig.aspect_ratio_max, 1.0) << c.name;
+    if (c.narrow) {
+        EXPECT_GT(fig.cut_back, 0u) << c.name;
+        EXPECT_FALSE(fig.cut_back_at.empty()) << c.name;
+    }
+    EXPECT_LE(fig.cut_back_at.size(), 16u);
+    EXPECT_EQ(r.quality.quads, m.quads.size());
+}
+
+TEST_P(Layers, BothTriangulatorsGiveTheSameMeshAndRunsRepeat) {
+    const LayerCase& c = GetParam();
+    MeshOptions raw;  // no smoothing: the triangulations themselves are compared
+    raw.boundary_layers = c.layers;
+    raw.smoothing_iterations = 0;
+    const MeshResult a = generate_mesh(c.domain, c.density, raw);
+    raw.triangulator = Triangulator::AdvancingFront;
+    const MeshResult b = generate_mesh(c.domain, c.density, raw);
+    EXPECT_TRUE(check_mesh(b.mesh).empty()) << c.name;
+    EXPECT_EQ(a.mesh.x, b.mesh.x);
+    EXPECT_EQ(a.mesh.y, b.mesh.y);
+    EXPECT_EQ(canonical(a.mesh.triangles), canonical(b.mesh.triangles)) << c.name;
+    EXPECT_EQ(a.mesh.quads, b.mesh.quads);
+    // Smoothing moves interior points only: the layers and the boundary stay put.
+    const MeshResult s = mesh(c), again = mesh(c);
+    ASSERT_EQ(s.mesh.point_count(), a.mesh.point_count());
+    for (size_t v = 0; v < s.mesh.point_count(); ++v)
+        if (s.mesh.kind[v] != PointKind::Interior) {
+            EXPECT_EQ(s.mesh.x[v], a.mesh.x[v]) << c.name << " point " << v;
+            EXPECT_EQ(s.mesh.y[v], a.mesh.y[v]) << c.name << " point " << v;
+        }
+    EXPECT_EQ(s.mesh.quads, a.mesh.quads);
+    EXPECT_EQ(s.mesh.x, again.mesh.x);
+    EXPECT_EQ(s.mesh.y, again.mesh.y);
+    EXPECT_EQ(canonical(s.mesh.triangles), canonical(again.mesh.triangles));
+    EXPECT_EQ(s.mesh.quads, again.mesh.quads);
+}
+
+INSTANTIATE_TEST_SUITE_P(Domains, Layers, ::testing::ValuesIn(cases()),
+                         [](const ::testing::TestParamInfo<LayerCase>& p) {
+                             std::string n = p.param.name;
+                             for (char& ch : n)
+                                 if (ch == '-') ch = '_';
+                             return n;
+                         });
+
+// cells "triangles": every quad split along its shorter diagonal, the rest unchanged.
+TEST(LayersAsTriangles, EachQuadBecomesTwoTrianglesAlongItsShorterDiagonal) {
+    LayerCase c = naca("0012", 1.2, 20);
+    const MeshResult quads = mesh(c);
+    c.layers[0].quads = false;
+    const MeshResult tris = mesh(c);
+    EXPECT_TRUE(check_mesh(tris.mesh).empty());
+    EXPECT_TRUE(tris.mesh.quads.empty());
+    EXPECT_EQ(tris.mesh.triangles.size(), quads.mesh.triangles.size() + 2 * quads.mesh.quads.size());
+    EXPECT_EQ(tris.mesh.x, quads.mesh.x);
+    // Every quad's two triangles share its shorter diagonal.
+    std::set<std::pair<VertexId, VertexId>> edges;
+    for (const Triangle& t : tris.mesh.triangles)
+        for (int i = 0; i < 3; ++i) edges.insert(std::minmax(t.v[i], t.v[(i + 1) % 3]));
+    for (const auto& q : quads.mesh.quads) {
+        const double d02 = distance(quads.mesh.point(q[0]), quads.mesh.point(q[2]));
+        const double d13 = distance(quads.mesh.point(q[1]), quads.mesh.point(q[3]));
+        const auto diag = d02 <= d13 ? std::minmax(q[0], q[2]) : std::minmax(q[1], q[3]);
+        EXPECT_TRUE(edges.count(diag));
+    }
+}
+
+// The layers stop before a cell taller than rho: with a coarse rho they are few.
+TEST(LayersStop, BeforeACellTallerThanRho) {
+    LayerCase c = cylinder();
+    c.layers[0].thickness = 0;
+    c.layers[0].layers = 200;
+    const MeshResult r = mesh(c);
+    EXPECT_TRUE(check_mesh(r.mesh).empty());
+    const auto st = stacks(r.mesh, {"cylinder"});
+    ASSERT_FALSE(st.empty());
+    for (const auto& h : st) {
+        ASSERT_GE(h.size(), 2u);
+        // rho on the cylinder is 0.03 + 0.05 * 0.5 = 0.055 and grows outwards: the last
+        // layer is no taller than rho there, one more would be (growth 1.2).
+        const double last = h.back() - h[h.size() - 2];
+        EXPECT_LE(last, 0.055 + 0.05 * (h.back() + 1e-9) + 1e-12);
+        EXPECT_GT(last * 1.2, (0.055 + 0.05 * h.back()) * 0.999);
+    }
+}
+
+TEST(LayersRefused, ANameThatIsNoLoopCurveOrTag) {
+    LayerCase c = cylinder();
+    c.layers[0].curves = {"nothing"};
+    try {
+        mesh(c);
+        FAIL() << "no error";
+    } catch (const GeometryError& e) {
+        EXPECT_EQ(e.kind(), GeometryErrorKind::UnknownCurve);
+        ASSERT_FALSE(e.subjects().empty());
+        EXPECT_EQ(e.subjects()[0].kind, Subject::Kind::Layers);
+    }
+}
+
+TEST(LayersRefused, MoreLayerPointsThanTheLimit) {
+    LayerCase c = naca("0012", 1.01, 200);
+    MeshOptions o;
+    o.boundary_layers = c.layers;
+    o.max_points = 5000;
+    EXPECT_THROW(generate_mesh(c.domain, c.density, o), GeometryError);
+}
+
+}  // namespace
