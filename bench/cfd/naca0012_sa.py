@@ -5,11 +5,13 @@ constant/polyMesh, this script adds what any OpenFOAM case needs (fields, scheme
 settings, a forceCoeffs function object) and runs simpleFoam. Prints Cl and Cd at each angle
 (a benchmark, minutes per angle; not a test).
 
-The mesh is isotropic (meshd has no boundary layers yet: issue 13), so the wall takes
-nutUSpaldingWallFunction; the far field is the example's circle of radius 20 chords.
+Two meshes: isotropic (the wall takes nutUSpaldingWallFunction, y+ far above 1), or with
+--layers, meshd's boundary layers (first height 1e-5 chord, growth 1.15, up to 40 layers: y+
+about 1, no wall function: nutLowReWallFunction). The far field is the example's circle of
+radius 20 chords. Prints y+ on the wing (OpenFOAM's yPlus function object).
 
-usage: bench/cfd/naca0012_sa.py [scale [angle ...]]   scale: the example's sizes times this
-(default 0.5); angles in degrees (default 0 4)"""
+usage: bench/cfd/naca0012_sa.py [--layers] [scale [angle ...]]   scale: the example's sizes
+times this (default 0.5); angles in degrees (default 0 4)"""
 import json
 import math
 import os
@@ -21,8 +23,10 @@ import tempfile
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 CLI = os.path.join(ROOT, "build", "cli", "meshd-cli")
-SCALE = float(sys.argv[1]) if len(sys.argv) > 1 else 0.5
-ANGLES = [float(a) for a in sys.argv[2:]] or [0.0, 4.0]
+LAYERS = "--layers" in sys.argv
+ARGS = [a for a in sys.argv[1:] if not a.startswith("--")]
+SCALE = float(ARGS[0]) if ARGS else 0.5
+ANGLES = [float(a) for a in ARGS[1:]] or [0.0, 4.0]
 NU = 1.0 / 6e6  # Re 6e6 with a chord of 1 and a speed of 1
 ITERATIONS = 3000
 
@@ -47,7 +51,8 @@ def case_files(u, thickness):
             "[0 2 -1 0 0 0 0]", f"{far_nut}", "type fixedValue; value uniform 0;",
             f"type freestream; freestreamValue uniform {far_nut};"),
         "0/nut": header("volScalarField", "nut") + field(
-            "[0 2 -1 0 0 0 0]", f"{far_nut}", "type nutUSpaldingWallFunction; value uniform 0;",
+            "[0 2 -1 0 0 0 0]", f"{far_nut}",
+            f"type {'nutLowReWallFunction' if LAYERS else 'nutUSpaldingWallFunction'}; value uniform 0;",
             f"type freestream; freestreamValue uniform {far_nut};"),
         "constant/transportProperties": header("dictionary", "transportProperties") +
             f"transportModel Newtonian; nu [0 2 -1 0 0 0 0] {NU};\n",
@@ -60,6 +65,7 @@ def case_files(u, thickness):
             "  patches (wall); rho rhoInf; rhoInf 1; CofR (0.25 0 0);\n"
             f"  liftDir ({-uy} {ux} 0); dragDir ({ux} {uy} 0); pitchAxis (0 0 1);\n"
             f"  magUInf 1; lRef 1; Aref {thickness}; }}\n"
+            "  yplus { type yPlus; libs (\"libfieldFunctionObjects.so\"); writeControl writeTime; }\n"
             "  residuals { type solverInfo; libs (\"libutilityFunctionObjects.so\"); fields (p U nuTilda); } }\n",
         "system/fvSchemes": header("dictionary", "fvSchemes") +
             "ddtSchemes { default steadyState; } gradSchemes { default Gauss linear; grad(U) cellLimited Gauss linear 1; }\n"
@@ -81,6 +87,8 @@ def main():
         request = json.load(f)
     request["density"]["size"] = f"{SCALE} * ({request['density']['size']})"
     request.setdefault("options", {})["patch_types"] = {"wall": "wall"}
+    if LAYERS:
+        request["boundary_layers"] = [{"curves": ["wing"], "first_height": 1e-5, "growth": 1.15, "layers": 40}]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         req = os.path.join(tmp, "naca.json")
@@ -113,12 +121,22 @@ def main():
             last = [float(v) for v in lines[-1].split()]
             value = dict(zip(names, last))
             converged = "SIMPLE solution converged" in log
-            rows.append((angle, value["Cl"], value["Cd"], int(last[0]), converged))
+            # yPlus.dat: "# Time patch min max average" rows; the wing's at the last write.
+            yplus = (float("nan"),) * 3
+            for root, _, files in os.walk(os.path.join(case, "postProcessing", "yplus")):
+                for name in files:
+                    for line in open(os.path.join(root, name)):
+                        cols = line.split()
+                        if len(cols) >= 5 and cols[1] == "wall":
+                            yplus = tuple(float(c) for c in cols[2:5])
+            rows.append((angle, value["Cl"], value["Cd"], int(last[0]), converged, yplus))
             print(f"alpha {angle:g}: Cl {value['Cl']:.4f}, Cd {value['Cd']:.5f} after {int(last[0])} iterations"
-                  f"{' (residuals met)' if converged else ''}", flush=True)
-    print("\n| alpha (deg) | Cl | Cd | iterations | residuals met |\n|---:|---:|---:|---:|---|")
-    for angle, cl, cd, it, converged in rows:
-        print(f"| {angle:g} | {cl:.4f} | {cd:.5f} | {it} | {'yes' if converged else 'no'} |")
+                  f"{' (residuals met)' if converged else ''}; y+ {yplus[0]:.3g}..{yplus[1]:.3g} (mean {yplus[2]:.3g})",
+                  flush=True)
+    print("\n| alpha (deg) | Cl | Cd | iterations | residuals met | y+ min..max (mean) |\n|---:|---:|---:|---:|---|---|")
+    for angle, cl, cd, it, converged, yp in rows:
+        print(f"| {angle:g} | {cl:.4f} | {cd:.5f} | {it} | {'yes' if converged else 'no'} | "
+              f"{yp[0]:.3g}..{yp[1]:.3g} ({yp[2]:.3g}) |")
 
 
 if __name__ == "__main__":

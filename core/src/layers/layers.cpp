@@ -21,6 +21,10 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kMaxStretch = 3.0;
 /// Columns keep below this share of the distance along their ray to another boundary.
 constexpr double kGapShare = 0.45;
+/// Between facing layers a strip at least this share of the local size stays free.
+constexpr double kStripShare = 0.5;
+/// Neighbouring columns' tops differ by at most this factor in height after a cut-back.
+constexpr double kTopRatio = 2.0;
 /// A sliding column reaches at most this share of the line it slides on.
 constexpr double kSlideShare = 0.3;
 /// A wall end slides along a line that meets it at a domain angle between these (degrees).
@@ -317,7 +321,10 @@ private:
             if (den != 0.0) x = a + (cross(c - a, e - c) / den) * (b - a);
             else x = dot(c - a, b - a) < dot(e - a, b - a) ? c : e;
             if (i < boundary) {
-                cap[rj] = std::min(cap[rj], kGapShare * along(rj, x));
+                // Less than half the gap, and room left between the layers of both sides for
+                // isotropic triangles of about half the local size.
+                const double t = along(rj, x);
+                cap[rj] = std::min(cap[rj], std::min(kGapShare * t, 0.5 * (t - kStripShare * rho_.interior(x))));
             } else {
                 const size_t ri = i - boundary;
                 cap[rj] = std::min(cap[rj], 0.9 * along(rj, x));
@@ -328,17 +335,22 @@ private:
             if (cap[r] < HUGE_VAL) ray_of[r]->n = levels_within(*ray_of[r], std::max(cap[r], 0.0));
     }
 
-    // 2. Neighbouring columns differ by at most one layer.
-    static void spread(Chain& c) {
+    // 2. Neighbouring columns' tops differ by at most a factor kTopRatio in height: as many
+    // layers as growth^k stays within it (at least one).
+    int step_of(const Column& col) const {
+        const double g = specs_[static_cast<size_t>(col.spec)].growth;
+        return g > 1.0 ? std::max(1, static_cast<int>(std::floor(std::log(kTopRatio) / std::log(g) + 1e-9))) : 1;
+    }
+    void spread(Chain& c) const {
         auto& cols = c.columns;
         const size_t n = cols.size();
         if (n < 2) return;
         const int rounds = c.closed ? 2 : 1;
+        auto limit = [&](Column& to, const Column& from) { to.n = std::min(to.n, from.n + step_of(to)); };
         for (int r = 0; r < rounds; ++r) {
-            for (size_t i = 1; i < n + (c.closed ? 1 : 0); ++i)
-                cols[i % n].n = std::min(cols[i % n].n, cols[i - 1].n + 1);
-            for (size_t i = n - 1; i-- > 0;) cols[i].n = std::min(cols[i].n, cols[i + 1].n + 1);
-            if (c.closed) cols[n - 1].n = std::min(cols[n - 1].n, cols[0].n + 1);
+            for (size_t i = 1; i < n + (c.closed ? 1 : 0); ++i) limit(cols[i % n], cols[i - 1]);
+            for (size_t i = n - 1; i-- > 0;) limit(cols[i], cols[i + 1]);
+            if (c.closed) limit(cols[n - 1], cols[0]);
         }
     }
 

@@ -6,9 +6,12 @@
 // from both walls); a convex corner that turns by more than kFanTurnDeg gets a fan of
 // columns. Column k's point sits at the height s_k = first_height (1 + growth + ... +
 // growth^(k-1)). A column stops at `layers`, at `thickness`, or before a layer taller than
-// rho there. Then the columns are cut back:
-//   1. along their own ray, to less than half the distance to any other boundary segment;
-//   2. neighbours differ by at most one layer (fewer layers spread smoothly);
+// rho there. A wall that ends on a straight curve without layers slides its end column along
+// it (or, where the curve goes on almost straight, turns a fan round to it). Then the columns
+// are cut back:
+//   1. along their own ray, to less than half the distance to any other boundary segment,
+//      leaving a strip of half the local size between facing layers;
+//   2. neighbours' tops differ by at most a factor 2 in height (fewer layers spread smoothly);
 //   3. until no cell is inverted and no edge of the layers crosses another edge of the
 //      layers or of the boundary (exact predicates, the size-class grids of
 //      kernel/crossings.hpp: linear in the number of edges per round).
@@ -29,7 +32,7 @@ namespace meshd::core {
 /// Convex corners that turn by more than this get a fan of columns.
 inline constexpr double kFanTurnDeg = 60.0;
 /// The largest angle between two columns of a fan.
-inline constexpr double kFanStepDeg = 20.0;
+inline constexpr double kFanStepDeg = 30.0;
 
 struct GrownLayers {
     /// The boundary as the layers leave it: the discretisation's points (same ids; those of

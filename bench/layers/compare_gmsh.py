@@ -1,0 +1,145 @@
+#!/usr/bin/python3
+"""Boundary layers on the NACA 0012 case, meshd against gmsh's BoundaryLayer field, one run,
+side by side: the same wing (closed trailing edge), far field (circle of radius 20 about
+(0.5, 0)) and density (the example's, as a MathEval field in gmsh), the same first height,
+growth and number of layers, quads, a fan at the trailing edge. Both meshes are then measured
+by the same code: cells, meshing time, the worst scaled Jacobian (at each corner the sine of
+its angle over the sine of the ideal one: 60 degrees in a triangle, 90 in a quad), the largest aspect ratio of a quad, and the largest jump between neighbouring cells
+(the larger over the smaller aspect ratio of two quads that share an edge).
+
+usage: bench/layers/compare_gmsh.py [first_height growth layers]   (default 1e-5 1.15 30)"""
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import gmsh
+import numpy as np
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+CLI = os.path.join(ROOT, "build", "cli", "meshd-cli")
+FIRST, GROWTH, LAYERS = (float(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])) if len(sys.argv) > 3 else (1e-5, 1.15, 30)
+
+
+def gmsh_mesh(path):
+    """gmsh 4.8: the wing as two splines through 2 x 200 points of the formula, the
+    BoundaryLayer field on them with a fan at the trailing edge; seconds to mesh."""
+    gmsh.model.add("gmsh")
+    geo = gmsh.model.geo
+    n = 200
+    half = lambda x: 0.6 * (0.2969 * math.sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x ** 3 - 0.1036 * x ** 4)  # noqa: E731
+    te, le = geo.addPoint(1, 0, 0), geo.addPoint(0, 0, 0)
+    upper, lower = [te], [le]
+    for i in range(1, n):
+        x = 0.5 * (1 + math.cos(math.pi * i / n))
+        upper.append(geo.addPoint(x, half(x), 0))
+    upper.append(le)
+    for i in range(1, n):
+        x = 0.5 * (1 - math.cos(math.pi * i / n))
+        lower.append(geo.addPoint(x, -half(x), 0))
+    lower.append(te)
+    wing = [geo.addSpline(upper), geo.addSpline(lower)]
+    centre = geo.addPoint(0.5, 0, 0)
+    ring = [geo.addPoint(0.5 + 20 * math.cos(k * math.pi / 2), 20 * math.sin(k * math.pi / 2), 0) for k in range(4)]
+    arcs = [geo.addCircleArc(ring[k], centre, ring[(k + 1) % 4]) for k in range(4)]
+    geo.addPlaneSurface([geo.addCurveLoop(arcs), geo.addCurveLoop(wing)])
+    geo.synchronize()
+    field = gmsh.model.mesh.field
+    size = field.add("MathEval")
+    a = "(0.1*Sqrt(x*x+y*y)+0.007)"
+    b = "(0.1*Sqrt((x-1.008930411365)*(x-1.008930411365)+y*y)+0.006)"
+    field.setString(size, "F", f"{a}*(1-(x-0.5)/Fabs(x-0.5+1e-30))/2 + {b}*(1+(x-0.5)/Fabs(x-0.5+1e-30))/2")
+    field.setAsBackgroundMesh(size)
+    bl = field.add("BoundaryLayer")
+    field.setNumbers(bl, "CurvesList", wing)
+    field.setNumber(bl, "Size", FIRST)
+    field.setNumber(bl, "Ratio", GROWTH)
+    field.setNumber(bl, "NbLayers", LAYERS)
+    field.setNumber(bl, "Quads", 1)
+    field.setNumbers(bl, "FanPointsList", [te])
+    field.setAsBoundaryLayer(bl)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    t0 = time.perf_counter()
+    gmsh.model.mesh.generate(2)
+    secs = time.perf_counter() - t0
+    gmsh.write(path)
+    gmsh.model.remove()
+    return secs
+
+
+def measure(path):
+    """The figures of the mesh in an MSH file, as gmsh loads it."""
+    gmsh.open(path)
+    types, tags, nodes = gmsh.model.mesh.getElements(2)
+    counts = {int(t): len(e) for t, e in zip(types, tags)}
+    node_tags, coords, _ = gmsh.model.mesh.getNodes()
+    xy = dict(zip(node_tags, coords.reshape(-1, 3)[:, :2]))
+    worst = 1.0
+    for kind, corners, ideal in ((2, 3, math.sin(math.pi / 3)), (3, 4, 1.0)):
+        if kind not in counts:
+            continue
+        cells = np.array([[xy[v] for v in c] for c in nodes[list(types).index(kind)].reshape(-1, corners)])
+        for i in range(corners):
+            e1 = cells[:, (i + 1) % corners] - cells[:, i]
+            e0 = cells[:, (i - 1) % corners] - cells[:, i]
+            sine = np.cross(e1, e0) / (np.linalg.norm(e1, axis=1) * np.linalg.norm(e0, axis=1))
+            worst = min(worst, float((sine / ideal).min()))
+    quads = nodes[list(types).index(3)].reshape(-1, 4) if 3 in counts else np.zeros((0, 4), int)
+    aspect = []
+    for q in quads:
+        p = [xy[v] for v in q]
+        sides = [np.linalg.norm(p[(i + 1) % 4] - p[i]) for i in range(4)]
+        aspect.append(max(sides) / min(sides))
+    aspect = np.array(aspect)
+    owner = {}
+    jump = 1.0
+    for k, q in enumerate(quads):
+        for i in range(4):
+            e = tuple(sorted((q[i], q[(i + 1) % 4])))
+            if e in owner:
+                a, b = aspect[owner[e]], aspect[k]
+                jump = max(jump, max(a, b) / min(a, b))
+            else:
+                owner[e] = k
+    gmsh.model.remove()
+    return {"triangles": counts.get(2, 0), "quads": counts.get(3, 0), "min_scaled_jacobian": worst,
+            "aspect_ratio_max": float(aspect.max()) if len(aspect) else 0.0, "neighbour_aspect_jump_max": jump}
+
+
+def main():
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.option.setNumber("General.NumThreads", 1)
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        with open(os.path.join(ROOT, "examples", "naca0012.json")) as f:
+            request = json.load(f)
+        request["boundary_layers"] = [{"curves": ["wing"], "first_height": FIRST, "growth": GROWTH, "layers": LAYERS}]
+        req, out = os.path.join(tmp, "req.json"), os.path.join(tmp, "meshd.msh")
+        json.dump(request, open(req, "w"))
+        run = subprocess.run([CLI, req, "-o", os.path.join(tmp, "meshd.json")], capture_output=True, text=True, check=True)
+        subprocess.run([CLI, req, "-o", out, "--quiet"], check=True)
+        metrics = json.load(open(os.path.join(tmp, "meshd.json")))["metrics"]
+        rows.append(("meshd", metrics["timings_ms"]["total"] / 1000, measure(out), metrics["boundary_layers"][0]))
+        path = os.path.join(tmp, "gmsh.msh")
+        secs = gmsh_mesh(path)
+        rows.append(("gmsh 4.8 BoundaryLayer", secs, measure(path), None))
+    gmsh.finalize()
+    print(f"first height {FIRST:g}, growth {GROWTH:g}, {LAYERS} layers\n")
+    print("| mesher | triangles | quads | time (s) | worst scaled Jacobian | largest quad aspect ratio | largest aspect jump between neighbours |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    for name, secs, m, _ in rows:
+        print(f"| {name} | {m['triangles']} | {m['quads']} | {secs:.3f} | {m['min_scaled_jacobian']:.3f} | "
+              f"{m['aspect_ratio_max']:.0f} | {m['neighbour_aspect_jump_max']:.2f} |")
+    layers = rows[0][3]
+    print(f"\nmeshd's layers: {layers['layers']['min']}..{layers['layers']['max']} per column, first height "
+          f"{layers['first_height']['min']:.4g}..{layers['first_height']['max']:.4g}, {layers['cut_back']['columns']} columns cut back")
+
+
+if __name__ == "__main__":
+    main()
