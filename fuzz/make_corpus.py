@@ -50,6 +50,14 @@ put("request", "holes.json", json.dumps({"geometry": holes, "density": {
     "size": "0.02 + 0.1*sqrt((x-0.5)^2+(y-0.5)^2)", "gradation": 1.3},
     "options": {"triangulator": "advancing_front", "min_angle_deg": 25}}))
 
+layered = json.loads(json.dumps(square))
+layered["points"]["P"] = [0.7, 0.5]
+layered["curves"]["h"] = {"type": "arc", "from": "P", "to": "P", "center": [0.5, 0.5], "tag": "hole"}
+layered["loops"] += [["h"]]
+put("request", "layers.json", json.dumps({"geometry": layered, "density": {"size": 0.05},
+    "boundary_layers": [{"curves": ["hole", "b"], "first_height": 0.002, "growth": 1.3, "layers": 6},
+                        {"curves": ["l"], "first_height": 0.01, "thickness": 0.04, "cells": "triangles"}]}))
+
 # Expressions.
 for i, e in enumerate(["0.1", "x < 0.5 ? 0.1*sqrt(x^2+y^2)+0.007 : 0.1*sqrt((x-1)^2+y^2)+0.006",
                        "0.4*sqrt(x^2+y^2)+0.2", "max(0.01, min(0.2, abs(sin(3*x)*cos(2*y))))",

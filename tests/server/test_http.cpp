@@ -680,6 +680,39 @@ TEST_P(Http, AnAsyncJobKeepsItsFoamOptions) {
     EXPECT_EQ(sync->body, tar->body);
 }
 
+// Boundary layers through the service: a job (stored by either store) gives in every format
+// the bytes the sync answer gives, quads included; a bad layer entry is a 400 with its pointer.
+TEST_P(Http, BoundaryLayersComeBackFromJobsInEveryFormat) {
+    auto server = serve({});
+    ServerProcess& s = *server;
+    auto c = client(s);
+    json req = json::parse(naca_request());
+    req["boundary_layers"] = json::array({{{"curves", {"wing"}}, {"first_height", 1e-4}, {"growth", 1.2}, {"layers", 10}}});
+    auto r = c.Post("/v1/jobs", req.dump(), "application/json");
+    ASSERT_EQ(r->status, 202) << r->body;
+    const std::string id = json::parse(r->body)["id"];
+    ASSERT_EQ(wait_for_job(c, id)["status"], "succeeded");
+    for (const char* format : {"json", "vtk", "su2", "msh", "foam", "svg"}) {
+        auto job = c.Get(("/v1/jobs/" + id + "/mesh?format=" + format).c_str());
+        auto sync = c.Post((std::string("/v1/meshes?format=") + format).c_str(), req.dump(), "application/json");
+        ASSERT_TRUE(job && sync);
+        ASSERT_EQ(job->status, 200) << format;
+        if (std::string(format) == "json") {
+            const json a = json::parse(job->body), b = json::parse(sync->body);
+            EXPECT_EQ(a["mesh"], b["mesh"]);
+            EXPECT_FALSE(a["mesh"]["quads"].empty());
+            EXPECT_EQ(a["metrics"]["boundary_layers"][0]["layers"]["max"], 10);
+        } else {
+            EXPECT_EQ(job->body, sync->body) << format;
+        }
+    }
+    req["boundary_layers"][0]["growth"] = 0.5;
+    auto bad = c.Post("/v1/meshes", req.dump(), "application/json");
+    ASSERT_TRUE(bad);
+    EXPECT_EQ(bad->status, 400);
+    EXPECT_EQ(json::parse(bad->body)["pointer"], "/boundary_layers/0/growth");
+}
+
 namespace {
 
 // The SHA-256 of `text` by coreutils' sha256sum (an oracle independent of meshd).

@@ -462,31 +462,14 @@ private:
         };
         for (std::uint32_t ci = 0; ci < chains_.size(); ++ci) {
             const Chain& ch = chains_[ci];
-            const size_t nc = ch.columns.size();
-            for (size_t k = 0; k < nc; ++k) {
-                const auto& P = ch.columns[k].ids;
-                if (ch.columns[k].slide == kNoCurve)  // a sliding column's sides are the boundary's
-                    for (size_t l = 0; l + 1 < P.size(); ++l) edge(P[l], P[l + 1]);
-                if (k + 1 == nc && !ch.closed) continue;
-                const auto& Q = ch.columns[(k + 1) % nc].ids;
-                const size_t na = P.size() - 1, nb = Q.size() - 1, common = std::min(na, nb);
-                const bool fan = P[0] == Q[0];
-                for (size_t l = 0; l < common; ++l) {
-                    edge(P[l + 1], Q[l + 1]);
-                    if (l == 0 && fan) cell({P[0], Q[1], P[1]});
-                    else cell({P[l], Q[l], Q[l + 1], P[l + 1]});
-                }
-                for (size_t l = nb; l < na; ++l) {
-                    if (l == 0 && fan) continue;
-                    edge(Q[nb], P[l + 1]);
-                    cell({P[l], Q[nb], P[l + 1]});
-                }
-                for (size_t l = na; l < nb; ++l) {
-                    if (l == 0 && fan) continue;
-                    edge(P[na], Q[l + 1]);
-                    cell({P[na], Q[l], Q[l + 1]});
-                }
-            }
+            for (const Column& col : ch.columns)
+                if (col.slide == kNoCurve)  // a sliding column's sides are the boundary's
+                    for (size_t l = 0; l + 1 < col.ids.size(); ++l) edge(col.ids[l], col.ids[l + 1]);
+            walk_cells(ch, [&](const Cell& c) {
+                edge(c.across[0], c.across[1]);
+                if (c.corners == 4) cell({c.v[0], c.v[1], c.v[2], c.v[3]});
+                else cell({c.v[0], c.v[1], c.v[2]});
+            });
         }
         detail::for_each_crossing(soup, [&](std::uint32_t i, std::uint32_t j) {
             for (std::uint32_t s : {i, j}) {
@@ -633,27 +616,49 @@ private:
         return g;
     }
 
-    void cells(GrownLayers& g) {
-        for (Chain& c : chains_) {
-            const size_t nc = c.columns.size();
-            for (size_t k = 0; k < nc; ++k) {
-                if (k + 1 == nc && !c.closed) break;
-                const auto& P = c.columns[k].ids;
-                const auto& Q = c.columns[(k + 1) % nc].ids;
-                const size_t na = P.size() - 1, nb = Q.size() - 1, common = std::min(na, nb);
-                const bool fan = P[0] == Q[0];
-                for (size_t l = 0; l < common; ++l) {
-                    if (l == 0 && fan) g.triangles.push_back({P[0], Q[1], P[1]});
-                    else g.quads.push_back({P[l], Q[l], Q[l + 1], P[l + 1]});
-                    quad_spec_.push_back(c.columns[k].spec);
-                    if (l == 0 && fan) quad_spec_.pop_back();
-                }
-                for (size_t l = nb; l < na; ++l)
-                    if (!(l == 0 && fan)) g.triangles.push_back({P[l], Q[nb], P[l + 1]});
-                for (size_t l = na; l < nb; ++l)
-                    if (!(l == 0 && fan)) g.triangles.push_back({P[na], Q[l], Q[l + 1]});
+    // A cell between two neighbouring columns: its corners (counter-clockwise), and its side
+    // that is no column's (its top, or a step's diagonal).
+    struct Cell {
+        std::array<std::uint32_t, 4> v;
+        int corners;
+        std::array<std::uint32_t, 2> across;
+        int spec;
+    };
+
+    // The cells between each pair of neighbouring columns of a chain: quads level by level
+    // (a fan's first cell a triangle: both columns start at one point), then, where one
+    // column is taller, triangles from its points to the other's top (the steps).
+    template <class F>
+    static void walk_cells(const Chain& c, F&& visit) {
+        const size_t nc = c.columns.size();
+        for (size_t k = 0; k < nc; ++k) {
+            if (k + 1 == nc && !c.closed) break;
+            const auto& P = c.columns[k].ids;
+            const auto& Q = c.columns[(k + 1) % nc].ids;
+            const int spec = c.columns[k].spec;
+            const size_t na = P.size() - 1, nb = Q.size() - 1, common = std::min(na, nb);
+            const bool fan = P[0] == Q[0];
+            for (size_t l = 0; l < common; ++l) {
+                if (l == 0 && fan) visit(Cell{{P[0], Q[1], P[1], 0}, 3, {Q[1], P[1]}, spec});
+                else visit(Cell{{P[l], Q[l], Q[l + 1], P[l + 1]}, 4, {Q[l + 1], P[l + 1]}, spec});
             }
+            for (size_t l = nb; l < na; ++l)
+                if (!(l == 0 && fan)) visit(Cell{{P[l], Q[nb], P[l + 1], 0}, 3, {Q[nb], P[l + 1]}, spec});
+            for (size_t l = na; l < nb; ++l)
+                if (!(l == 0 && fan)) visit(Cell{{P[na], Q[l], Q[l + 1], 0}, 3, {P[na], Q[l + 1]}, spec});
         }
+    }
+
+    void cells(GrownLayers& g) {
+        for (const Chain& c : chains_)
+            walk_cells(c, [&](const Cell& cell) {
+                if (cell.corners == 4) {
+                    g.quads.push_back(cell.v);
+                    quad_spec_.push_back(cell.spec);
+                } else {
+                    g.triangles.push_back({cell.v[0], cell.v[1], cell.v[2]});
+                }
+            });
     }
 
     // The quads of entries that asked for triangles: split along their shorter diagonal.
