@@ -196,6 +196,7 @@ json metrics() {
                 {"first_height", number_stats},
                 {"aspect_ratio_max", number()},
                 {"scaled_jacobian_min", number()},
+                {"skew_max", number()},
                 {"cut_back",
                  {{"type", "object"},
                   {"properties",

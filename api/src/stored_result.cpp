@@ -149,7 +149,8 @@ std::string encode_result(const core::MeshResult& r) {
     for (const auto& l : q.boundary_layers) {
         w.u64(static_cast<std::uint64_t>(l.layers_min));
         w.u64(static_cast<std::uint64_t>(l.layers_max));
-        for (double v : {l.first_height_min, l.first_height_max, l.aspect_ratio_max, l.scaled_jacobian_min}) w.f64(v);
+        for (double v : {l.first_height_min, l.first_height_max, l.aspect_ratio_max, l.scaled_jacobian_min, l.skew_max})
+            w.f64(v);
         w.u64(l.columns);
         w.u64(l.cut_back);
         w.u64(l.cut_back_at.size());
@@ -273,11 +274,12 @@ core::MeshResult decode_result(std::string_view bytes) {
     q.straightened_edges = rd.u64();
     q.scaled_jacobian_min = rd.f64();
     q.quads = static_cast<size_t>(rd.u64());
-    q.boundary_layers.resize(rd.count(64));
+    q.boundary_layers.resize(rd.count(72));
     for (auto& l : q.boundary_layers) {
         l.layers_min = static_cast<int>(std::min<std::uint64_t>(rd.u64(), core::kMaxLayers));
         l.layers_max = static_cast<int>(std::min<std::uint64_t>(rd.u64(), core::kMaxLayers));
-        for (double* v : {&l.first_height_min, &l.first_height_max, &l.aspect_ratio_max, &l.scaled_jacobian_min}) *v = rd.f64();
+        for (double* v : {&l.first_height_min, &l.first_height_max, &l.aspect_ratio_max, &l.scaled_jacobian_min, &l.skew_max})
+            *v = rd.f64();
         l.columns = rd.u64();
         l.cut_back = rd.u64();
         l.cut_back_at.resize(rd.count(16));

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <map>
 #include <set>
 
@@ -187,6 +188,10 @@ TEST_P(Layers, TheHybridMeshIsValidAndTheLayersKeepTheirHeights) {
     EXPECT_NEAR(fig.first_height_min, s.first_height, 0.01 * s.first_height) << c.name;
     EXPECT_NEAR(fig.first_height_max, s.first_height, 0.01 * s.first_height) << c.name;
     EXPECT_GT(fig.scaled_jacobian_min, 0.0) << c.name;
+    // The corner farthest from a right angle has the smallest sine: the two figures agree.
+    EXPECT_GE(fig.skew_max, 0.0);
+    EXPECT_LT(fig.skew_max, 1.0);
+    EXPECT_NEAR(fig.scaled_jacobian_min, std::cos(fig.skew_max * std::numbers::pi / 2), 1e-9) << c.name;
     EXPECT_GE(fig.aspect_ratio_max, 1.0) << c.name;
     if (c.narrow) {
         EXPECT_GT(fig.cut_back, 0u) << c.name;

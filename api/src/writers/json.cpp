@@ -35,6 +35,7 @@ std::string metrics_json(const MeshResult& r) {
                               {"first_height", {{"min", l.first_height_min}, {"max", l.first_height_max}}},
                               {"aspect_ratio_max", l.aspect_ratio_max},
                               {"scaled_jacobian_min", l.scaled_jacobian_min},
+                              {"skew_max", l.skew_max},
                               {"cut_back", {{"columns", l.cut_back}, {"at", at}}}});
         }
         j["boundary_layers"] = layers;

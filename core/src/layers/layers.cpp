@@ -744,6 +744,8 @@ private:
                 hi = std::max(hi, len);
                 const Vec2 e1 = p[(i + 1) % 4] - p[i], e0 = p[(i + 3) % 4] - p[i];
                 fig.scaled_jacobian_min = std::min(fig.scaled_jacobian_min, cross(e1, e0) / (norm(e1) * norm(e0)));
+                const double corner = std::atan2(cross(e1, e0), dot(e1, e0));
+                fig.skew_max = std::max(fig.skew_max, std::fabs(corner - std::numbers::pi / 2) / (std::numbers::pi / 2));
             }
             fig.aspect_ratio_max = std::max(fig.aspect_ratio_max, hi / lo);
         }

@@ -124,6 +124,7 @@ struct QualityMetrics {
         double first_height_min = 0, first_height_max = 0;
         double aspect_ratio_max = 0;                    ///< longest over shortest side, quads
         double scaled_jacobian_min = 1;                 ///< quads, at their corners
+        double skew_max = 0;                            ///< quads: the largest |corner - 90 deg| / 90 deg
         std::uint64_t columns = 0, cut_back = 0;        ///< columns; those with fewer layers than asked
         std::vector<Vec2> cut_back_at;                  ///< the middle of each run of cut-back columns (at most 16)
     };
