@@ -138,11 +138,12 @@ int main(int argc, char** argv) {
         }
         if (!quiet) {
             const auto& q = r.quality;
+            const std::string quads = q.quads ? ", " + std::to_string(q.quads) + " quads" : "";
             std::fprintf(stderr,
-                         "%zu points (%zu boundary), %zu triangles; angles %.1f..%.1f deg; radius ratio min %.3f "
+                         "%zu points (%zu boundary), %zu triangles%s; angles %.1f..%.1f deg; radius ratio min %.3f "
                          "mean %.4f; edges within sqrt2 of rho %.4f; %.1f ms (boundary %.1f, interior %.1f, "
                          "triangulation %.1f, smoothing %.1f)%s%s\n",
-                         q.points, q.boundary_points, q.triangles, q.angle_min, q.angle_max, q.quality_min,
+                         q.points, q.boundary_points, q.triangles, quads.c_str(), q.angle_min, q.angle_max, q.quality_min,
                          q.quality_mean, q.size_ratio_within_sqrt2, r.timings.total_ms, r.timings.boundary_ms,
                          r.timings.interior_ms, r.timings.triangulation_ms, r.timings.smoothing_ms,
                          output.empty() ? "" : " -> ", output.c_str());
