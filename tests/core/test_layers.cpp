@@ -113,9 +113,25 @@ LayerCase blunt_trailing_edge() {
     return {"blunt-trailing-edge", s, size("0.002 + 0.08*sqrt((x-0.5)^2+y^2)"), {spec({"wing"}, 1e-5, 1.2, 30)}, false};
 }
 
+// A wake line leaves the trailing edge: the fan's middle column slides along it, and the
+// layers go on on both of its sides.
+LayerCase wake_line() {
+    LayerCase c = naca("0012", 1.15, 25);
+    c.domain.points.push_back({"TE", {1.0, 0.0}});
+    c.domain.points.push_back({"W", {3.0, 0.0}});
+    for (auto& cs : c.domain.curves)
+        if (cs.name == "wing") cs.from = cs.to = "TE";
+    c.domain.curves.push_back(line("wake", "TE", "W", "wake"));
+    c.domain.embedded = {"wake"};
+    c.density.curves.push_back({"wake", std::string("0.003 + 0.05*sqrt((x+0.01)^2+y^2)")});
+    c.name = "wake-line";
+    c.layers[0].first_height = 1e-4;
+    return c;
+}
+
 std::vector<LayerCase> cases() {
     return {naca("0012", 1.15, 30), naca("4412", 1.25, 20), three_element(), half_airfoil(),
-            cylinder(),             holes_close_together(), blunt_trailing_edge()};
+            cylinder(),             holes_close_together(), blunt_trailing_edge(), wake_line()};
 }
 
 MeshResult mesh(const LayerCase& c, Triangulator tr = Triangulator::Delaunay) {
@@ -236,6 +252,18 @@ INSTANTIATE_TEST_SUITE_P(Domains, Layers, ::testing::ValuesIn(cases()),
                                  if (ch == '-') ch = '_';
                              return n;
                          });
+
+// The wake line keeps its edges through the layers (each edge of it shared by two cells) and
+// the layers around the trailing edge are not cut back.
+TEST(LayersAlongAWake, TheFanSlidesOnTheLineAndNothingIsCutBack) {
+    const MeshResult r = mesh(wake_line());
+    EXPECT_TRUE(check_mesh(r.mesh).empty());
+    EXPECT_EQ(r.quality.boundary_layers[0].cut_back, 0u);
+    size_t wake_points_in_layers = 0;
+    for (VertexId v = 0; v < r.mesh.point_count(); ++v)
+        if (r.mesh.kind[v] == PointKind::Embedded && r.mesh.x[v] < 1.01) ++wake_points_in_layers;
+    EXPECT_GE(wake_points_in_layers, 10u) << "the column on the wake holds the layers' points";
+}
 
 // cells "triangles": every quad split along its shorter diagonal, the rest unchanged.
 TEST(LayersAsTriangles, EachQuadBecomesTwoTrianglesAlongItsShorterDiagonal) {

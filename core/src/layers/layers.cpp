@@ -237,17 +237,42 @@ private:
                                  ? spec_in
                                  : spec_out;
             const double turn = std::atan2(cross(t0, t1), dot(t0, t1));  // < 0: a convex corner of the wall
+            const size_t first = c.columns.size();
             if (turn < -kFanTurnDeg * kDeg) {
                 const int sectors = static_cast<int>(std::ceil(-turn / (kFanStepDeg * kDeg)));
                 for (int k = 0; k <= sectors; ++k)
                     c.columns.emplace_back(v, unit(rotate(n0, turn * k / sectors)), 1.0, spec);
-                continue;
+            } else {
+                Vec2 dir = unit(n0 + n1);
+                if (norm(dir) == 0.0) dir = n0;
+                const double cosine = dot(dir, n0);
+                const double stretch = cosine > 1.0 / kMaxStretch ? 1.0 / cosine : kMaxStretch;
+                c.columns.emplace_back(v, dir, stretch, spec);
             }
-            Vec2 dir = unit(n0 + n1);
-            if (norm(dir) == 0.0) dir = n0;
-            const double cosine = dot(dir, n0);
-            const double stretch = cosine > 1.0 / kMaxStretch ? 1.0 / cosine : kMaxStretch;
-            c.columns.emplace_back(v, dir, stretch, spec);
+            follow_embedded_lines(c, first, n0, n1);
+        }
+    }
+
+    // An embedded straight curve that leaves the wall at v (a wake line from a trailing edge):
+    // the column nearest its direction (within kFanStepDeg) turns onto it and slides on it, so
+    // that the layers go on along both of its sides instead of being cut back by it.
+    void follow_embedded_lines(Chain& c, size_t first, Vec2 n0, Vec2 n1) {
+        const VertexId v = c.columns[first].base;
+        for (CurveId e : domain_.embedded()) {
+            const auto& vs = d_.curve_vertices[e];
+            if (domain_.curves()[e].geometry->type() != CurveType::Line || vs.size() < 2) continue;
+            if (vs.front() != v && vs.back() != v) continue;
+            const Vec2 along = unit(pt(vs.front() == v ? vs[1] : vs[vs.size() - 2]) - pt(v));
+            size_t best = first;
+            for (size_t k = first; k < c.columns.size(); ++k)
+                if (dot(c.columns[k].dir, along) > dot(c.columns[best].dir, along)) best = k;
+            Column& col = c.columns[best];
+            if (dot(col.dir, along) < std::cos(kFanStepDeg * kDeg) || col.slide != kNoCurve) continue;
+            const double cosine = std::min(dot(along, n0), dot(along, n1));
+            col.dir = along;
+            col.stretch = c.columns.size() - first > 1 ? 1.0 : (cosine > 1.0 / kMaxStretch ? 1.0 / cosine : kMaxStretch);
+            col.slide = e;
+            col.slide_at_start = vs.front() == v;
         }
     }
 
@@ -595,7 +620,18 @@ private:
             }
         }
         f.loop_segment_count = f.segments.size();
-        for (size_t i = b.loop_segment_count; i < b.segments.size(); ++i) f.segments.push_back(b.segments[i]);
+        // Embedded lines: not their stretch inside the layers (a column slides on it there).
+        std::vector<std::pair<VertexId, VertexId>> inside;
+        for (const Chain& c : chains_)
+            for (const Column& col : c.columns)
+                if (col.slide != kNoCurve)
+                    for (size_t l = 0; l + 1 < col.ids.size(); ++l)
+                        inside.emplace_back(std::min(col.ids[l], col.ids[l + 1]), std::max(col.ids[l], col.ids[l + 1]));
+        std::sort(inside.begin(), inside.end());
+        for (size_t i = b.loop_segment_count; i < b.segments.size(); ++i)
+            if (!std::binary_search(inside.begin(), inside.end(),
+                                    std::pair{std::min(b.segments[i].a, b.segments[i].b), std::max(b.segments[i].a, b.segments[i].b)}))
+                f.segments.push_back(b.segments[i]);
         // The new points take the mean length of their segments as their size.
         std::vector<double> len_sum(f.size(), 0.0);
         std::vector<int> len_count(f.size(), 0);
