@@ -129,9 +129,20 @@ LayerCase wake_line() {
     return c;
 }
 
+// A wall that ends on arcs: its end columns slide along the arcs (points on the circles).
+LayerCase wall_between_arcs() {
+    DomainSpec s;
+    s.points = {{"A", {0, 0}}, {"B", {2, 0}}, {"C", {2, 1}}, {"D", {0, 1}}};
+    s.curves = {line("bottom", "A", "B", "wall"), arc("right", "B", "C", {1.5, 0.5}, ArcDirection::Ccw, "outlet"),
+                line("top", "C", "D"), arc("left", "D", "A", {0.5, 0.5}, ArcDirection::Ccw, "inlet")};
+    s.loops = {loop({"bottom", "right", "top", "left"})};
+    return {"wall-between-arcs", s, size("0.05"), {spec({"bottom"}, 1e-3, 1.2, 10)}, false};
+}
+
 std::vector<LayerCase> cases() {
     return {naca("0012", 1.15, 30), naca("4412", 1.25, 20), three_element(), half_airfoil(),
-            cylinder(),             holes_close_together(), blunt_trailing_edge(), wake_line()};
+            cylinder(),             holes_close_together(), blunt_trailing_edge(), wake_line(),
+            wall_between_arcs()};
 }
 
 MeshResult mesh(const LayerCase& c, Triangulator tr = Triangulator::Delaunay) {
@@ -263,6 +274,22 @@ TEST(LayersAlongAWake, TheFanSlidesOnTheLineAndNothingIsCutBack) {
     for (VertexId v = 0; v < r.mesh.point_count(); ++v)
         if (r.mesh.kind[v] == PointKind::Embedded && r.mesh.x[v] < 1.01) ++wake_points_in_layers;
     EXPECT_GE(wake_points_in_layers, 10u) << "the column on the wake holds the layers' points";
+}
+
+// The end columns of a wall that ends on arcs lie on the arcs: points of those curves, on
+// their circles.
+TEST(LayersSlide, AlongCurvedBoundaries) {
+    const MeshResult r = mesh(wall_between_arcs());
+    EXPECT_TRUE(check_mesh(r.mesh).empty());
+    const Mesh& m = r.mesh;
+    size_t on_arcs_near_the_wall = 0;
+    for (VertexId v = 0; v < m.point_count(); ++v) {
+        if (m.kind[v] != PointKind::Boundary || m.y[v] > 0.05) continue;
+        for (const Vec2 c : {Vec2{1.5, 0.5}, Vec2{0.5, 0.5}})
+            if (std::fabs(distance(m.point(v), c) - std::sqrt(0.5)) < 1e-12 && m.y[v] > 1e-9) ++on_arcs_near_the_wall;
+    }
+    EXPECT_GE(on_arcs_near_the_wall, 10u) << "the end columns' points lie on the arcs";
+    EXPECT_EQ(r.quality.boundary_layers[0].cut_back, 0u);
 }
 
 // cells "triangles": every quad split along its shorter diagonal, the rest unchanged.

@@ -198,12 +198,20 @@ private:
                 const Vec2 wall_normal = start ? n1 : n0;
                 const size_t other_seg = start ? (i + m - 1) % m : i;
                 const CurveId line = d_.segments[loop_offset(c.loop) + other_seg].curve;
-                const Vec2 along = unit((start ? prev : next) - pt(v));
+                // Along the curve, away from v: its tangent there (a curved boundary leaves the
+                // corner along it, not along the chord to its next point).
+                Vec2 along = unit((start ? prev : next) - pt(v));
+                if (slidable(line)) {
+                    const Curve& g = *domain_.curves()[line].geometry;
+                    const bool from_start = d_.curve_vertices[line].front() == v;
+                    const Vec2 tangent = unit(g.derivative(from_start ? g.t_begin() : g.t_end()));
+                    if (norm(tangent) > 0.0) along = from_start ? tangent : -tangent;
+                }
                 const Vec2 wall_dir = start ? t1 : -t0;
                 double angle = std::atan2(start ? cross(wall_dir, along) : cross(along, wall_dir), dot(wall_dir, along));
                 if (angle < 0) angle += 2 * std::numbers::pi;
                 Column col(v, wall_normal, 1.0, start ? spec_out : spec_in);
-                const bool straight = domain_.curves()[line].geometry->type() == CurveType::Line;
+                const bool straight = slidable(line);
                 if (straight && angle >= kSlideMaxDeg * kDeg) {
                     // The line goes on nearly straight from the wall (a trailing edge on a
                     // symmetry line): a fan from the wall's normal round to the line, whose
@@ -260,7 +268,7 @@ private:
         const VertexId v = c.columns[first].base;
         for (CurveId e : domain_.embedded()) {
             const auto& vs = d_.curve_vertices[e];
-            if (domain_.curves()[e].geometry->type() != CurveType::Line || vs.size() < 2) continue;
+            if (!slidable(e)) continue;
             if (vs.front() != v && vs.back() != v) continue;
             const Vec2 along = unit(pt(vs.front() == v ? vs[1] : vs[vs.size() - 2]) - pt(v));
             size_t best = first;
@@ -282,12 +290,27 @@ private:
         return on_line(col.slide, col.slide_at_start ? reach : domain_.curves()[col.slide].length - reach);
     }
 
-    // The point of line c at distance s from its start, and its parameter.
+    // Curves that columns slide on, by arc length: the parameter at arc length s from the
+    // curve's start, its point, and the arc length of a parameter.
+    const CurveParametrisation& arc(CurveId c) const {
+        auto it = arcs_.find(c);
+        if (it == arcs_.end()) it = arcs_.emplace(c, make_arc_length(*domain_.curves()[c].geometry)).first;
+        return *it->second;
+    }
     double line_param(CurveId c, double s) const {
-        const Curve& g = *domain_.curves()[c].geometry;
-        return g.t_begin() + (g.t_end() - g.t_begin()) * (s / domain_.curves()[c].length);
+        const CurveParametrisation& a = arc(c);
+        return a.param_at(std::clamp(s * a.length() / domain_.curves()[c].length, 0.0, a.length()));
     }
     Vec2 on_line(CurveId c, double s) const { return domain_.curves()[c].geometry->point(line_param(c, s)); }
+    double along_line(CurveId c, double t) const {
+        const CurveParametrisation& a = arc(c);
+        return a.spacing_at(t) * domain_.curves()[c].length / a.length();
+    }
+    // A curve a column may slide on: open (its ends are two points), not a wall.
+    bool slidable(CurveId c) const {
+        const auto& vs = d_.curve_vertices[c];
+        return vs.size() >= 2 && vs.front() != vs.back() && spec_of_[c] < 0;
+    }
 
     // Layers the spec asks for at this column, stopping before a cell taller than rho.
     int wanted(const Column& col) const {
@@ -410,9 +433,8 @@ private:
             std::vector<VertexId> chain{old.front()};
             if (Column* col = ends[0])
                 for (int l = 1; l <= col->n; ++l) chain.push_back(col->ids.emplace_back(add(col->stretch * level_[static_cast<size_t>(col->spec)][static_cast<size_t>(l)])));
-            const Vec2 start = pt(old.front());
             for (size_t i = 1; i + 1 < old.size(); ++i) {
-                const double at = from + distance(start, pt(old[i])) * (len - from - to) / len;
+                const double at = from + along_line(line, d_.param[old[i]]) * (len - from - to) / len;
                 const Vec2 p = on_line(line, at);
                 b.x[old[i]] = p.x;
                 b.y[old[i]] = p.y;
@@ -797,6 +819,7 @@ private:
     std::vector<std::vector<double>> level_;
     std::vector<Chain> chains_;
     std::vector<int> quad_spec_;
+    mutable std::map<CurveId, std::unique_ptr<CurveParametrisation>> arcs_;
 };
 
 }  // namespace

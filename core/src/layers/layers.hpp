@@ -6,8 +6,9 @@
 // from both walls); a convex corner that turns by more than kFanTurnDeg gets a fan of
 // columns. Column k's point sits at the height s_k = first_height (1 + growth + ... +
 // growth^(k-1)). A column stops at `layers`, at `thickness`, or before a layer taller than
-// rho there. A wall that ends on a straight curve without layers slides its end column along
-// it (or, where the curve goes on almost straight, turns a fan round to it). Then the columns
+// rho there. A wall that ends on a curve without layers slides its end column along it (or,
+// where the curve goes on almost straight, turns a fan round to it); an embedded curve that
+// leaves a wall takes the nearest column onto it. Then the columns
 // are cut back:
 //   1. along their own ray, to less than half the distance to any other boundary segment,
 //      leaving a strip of half the local size between facing layers;
