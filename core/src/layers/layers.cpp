@@ -324,7 +324,15 @@ private:
                 col.stretch * h[static_cast<size_t>(n) + 1] > kSlideShare * domain_.curves()[col.slide].length)
                 break;
             const double cell = col.stretch * (h[static_cast<size_t>(n) + 1] - h[static_cast<size_t>(n)]);
-            if (cell > rho_.interior(level_point(col, n))) break;
+            // rho where the column stands; a density that fails there (a column that, before
+            // its cut-back, leaves the domain where the expression is not defined) stops it.
+            double size = 0.0;
+            try {
+                size = rho_.interior(level_point(col, n));
+            } catch (const GeometryError&) {
+                break;
+            }
+            if (cell > size) break;
             ++n;
         }
         return n;
