@@ -8,11 +8,15 @@ the same quality figures meshd reports.
 usage: gmsh_naca.py S ALGORITHM     (ALGORITHM: 6 Frontal-Delaunay, 5 Delaunay)"""
 import json
 import math
+import os
 import sys
 import time
 
 import gmsh
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gmsh_case import add_naca_case  # noqa: E402
 
 s = float(sys.argv[1])
 algo = int(sys.argv[2])
@@ -28,45 +32,7 @@ gmsh.initialize()
 gmsh.option.setNumber("General.Terminal", 0)
 gmsh.option.setNumber("General.NumThreads", 1)
 gmsh.model.add("naca")
-geo = gmsh.model.geo
-n = 200
-
-
-def thickness(x):
-    return 0.6 * (0.2969 * math.sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x ** 3 - 0.1036 * x ** 4)
-
-
-te = geo.addPoint(1, 0, 0)
-le = geo.addPoint(0, 0, 0)
-upper, lower = [te], [le]
-for i in range(1, n):
-    x = 0.5 * (1 + math.cos(math.pi * i / n))  # from the trailing edge to the leading edge
-    upper.append(geo.addPoint(x, thickness(x), 0))
-upper.append(le)
-for i in range(1, n):
-    x = 0.5 * (1 - math.cos(math.pi * i / n))
-    lower.append(geo.addPoint(x, -thickness(x), 0))
-lower.append(te)
-c1 = geo.addSpline(upper)
-c2 = geo.addSpline(lower)
-centre = geo.addPoint(0.5, 0, 0)
-ring = [geo.addPoint(0.5 + 20 * math.cos(k * math.pi / 2), 20 * math.sin(k * math.pi / 2), 0) for k in range(4)]
-arcs = [geo.addCircleArc(ring[k], centre, ring[(k + 1) % 4]) for k in range(4)]
-outer = geo.addCurveLoop(arcs)
-hole = geo.addCurveLoop([c1, c2])
-geo.addPlaneSurface([outer, hole])
-geo.synchronize()
-
-field = gmsh.model.mesh.field
-f = field.add("MathEval")
-a = f"(0.1*Sqrt(x*x+y*y)+0.007)*{s}"
-b = f"(0.1*Sqrt((x-1.008930411365)*(x-1.008930411365)+y*y)+0.006)*{s}"
-# Step at x = 0.5 without a conditional: (1 + sign) / 2 with sign = t / |t|.
-field.setString(f, "F", f"{a}*(1-(x-0.5)/Fabs(x-0.5+1e-30))/2 + {b}*(1+(x-0.5)/Fabs(x-0.5+1e-30))/2")
-field.setAsBackgroundMesh(f)
-gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+add_naca_case(s)
 gmsh.option.setNumber("Mesh.Algorithm", algo)
 
 t0 = time.perf_counter()

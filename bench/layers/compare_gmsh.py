@@ -20,40 +20,20 @@ import time
 import gmsh
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "compare"))
+from gmsh_case import add_naca_case  # noqa: E402
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 CLI = os.path.join(ROOT, "build", "cli", "meshd-cli")
 FIRST, GROWTH, LAYERS = (float(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])) if len(sys.argv) > 3 else (1e-5, 1.15, 30)
 
 
 def gmsh_mesh(path):
-    """gmsh 4.8: the wing as two splines through 2 x 200 points of the formula, the
-    BoundaryLayer field on them with a fan at the trailing edge; seconds to mesh."""
+    """gmsh 4.8 on the benchmark case (bench/compare/gmsh_case.py), the BoundaryLayer field on
+    the wing with a fan at the trailing edge; seconds to mesh."""
     gmsh.model.add("gmsh")
-    geo = gmsh.model.geo
-    n = 200
-    half = lambda x: 0.6 * (0.2969 * math.sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x ** 3 - 0.1036 * x ** 4)  # noqa: E731
-    te, le = geo.addPoint(1, 0, 0), geo.addPoint(0, 0, 0)
-    upper, lower = [te], [le]
-    for i in range(1, n):
-        x = 0.5 * (1 + math.cos(math.pi * i / n))
-        upper.append(geo.addPoint(x, half(x), 0))
-    upper.append(le)
-    for i in range(1, n):
-        x = 0.5 * (1 - math.cos(math.pi * i / n))
-        lower.append(geo.addPoint(x, -half(x), 0))
-    lower.append(te)
-    wing = [geo.addSpline(upper), geo.addSpline(lower)]
-    centre = geo.addPoint(0.5, 0, 0)
-    ring = [geo.addPoint(0.5 + 20 * math.cos(k * math.pi / 2), 20 * math.sin(k * math.pi / 2), 0) for k in range(4)]
-    arcs = [geo.addCircleArc(ring[k], centre, ring[(k + 1) % 4]) for k in range(4)]
-    geo.addPlaneSurface([geo.addCurveLoop(arcs), geo.addCurveLoop(wing)])
-    geo.synchronize()
+    wing, te = add_naca_case(1.0)
     field = gmsh.model.mesh.field
-    size = field.add("MathEval")
-    a = "(0.1*Sqrt(x*x+y*y)+0.007)"
-    b = "(0.1*Sqrt((x-1.008930411365)*(x-1.008930411365)+y*y)+0.006)"
-    field.setString(size, "F", f"{a}*(1-(x-0.5)/Fabs(x-0.5+1e-30))/2 + {b}*(1+(x-0.5)/Fabs(x-0.5+1e-30))/2")
-    field.setAsBackgroundMesh(size)
     bl = field.add("BoundaryLayer")
     field.setNumbers(bl, "CurvesList", wing)
     field.setNumber(bl, "Size", FIRST)
@@ -62,9 +42,6 @@ def gmsh_mesh(path):
     field.setNumber(bl, "Quads", 1)
     field.setNumbers(bl, "FanPointsList", [te])
     field.setAsBoundaryLayer(bl)
-    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
     t0 = time.perf_counter()
     gmsh.model.mesh.generate(2)
     secs = time.perf_counter() - t0

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "meshd/core/density.hpp"
 #include "meshd/core/domain.hpp"
 #include "triangulation/triangulation.hpp"
 
@@ -60,6 +61,33 @@ inline DomainSpec naca_in_circle(const std::string& code = "0012", double radius
     s.curves.push_back({"wing", naca, std::nullopt, std::nullopt, std::string("wall")});
     s.curves.push_back(arc("farfield", "F", "F", {0.5, 0.0}, ArcDirection::Ccw, "farfield"));
     s.loops = {loop({"farfield"}), loop({"wing"})};
+    return s;
+}
+
+/// A density of one size expression everywhere.
+inline core::DensitySpec density_of(std::string expr) {
+    core::DensitySpec d;
+    d.size = std::move(expr);
+    return d;
+}
+
+/// A three-element high-lift wing (NACA 2412 main, 0012 slat at 20 degrees, 0012 flap with a
+/// blunt trailing edge at 20 degrees, its leading edge where asked), tagged "wall", in a
+/// circle of radius 10 about (0.5, 0) tagged "farfield".
+inline DomainSpec three_element_wing(Vec2 flap_leading_edge) {
+    using core::AirfoilSurface;
+    using core::NacaSpec;
+    using core::TrailingEdge;
+    DomainSpec s;
+    s.points = {{"F", {10.5, 0.0}}};
+    NacaSpec main_wing{"2412", {1.0, {0.0, 0.0}, 0.0}, TrailingEdge::Closed, AirfoilSurface::Both};
+    NacaSpec slat{"0012", {0.15, {-0.17, -0.03}, 20.0}, TrailingEdge::Closed, AirfoilSurface::Both};
+    NacaSpec flap{"0012", {0.3, flap_leading_edge, 20.0}, TrailingEdge::Open, AirfoilSurface::Both};
+    s.curves.push_back({"main", main_wing, std::nullopt, std::nullopt, std::string("wall")});
+    s.curves.push_back({"slat", slat, std::nullopt, std::nullopt, std::string("wall")});
+    s.curves.push_back({"flap", flap, std::nullopt, std::nullopt, std::string("wall")});
+    s.curves.push_back(arc("farfield", "F", "F", {0.5, 0.0}));
+    s.loops = {loop({"farfield"}), loop({"main"}), loop({"slat"}), loop({"flap"})};
     return s;
 }
 

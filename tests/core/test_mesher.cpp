@@ -28,20 +28,14 @@ struct Case {
     double min_within_sqrt2;  // measured, with a margin: a regression guard
 };
 
-DensitySpec size(std::string expr) {
-    DensitySpec d;
-    d.size = std::move(expr);
-    return d;
-}
-
-Case square() { return {"square", unit_square(), size("0.03"), 0.95}; }
+Case square() { return {"square", unit_square(), density_of("0.03"), 0.95}; }
 
 Case annulus() {
     DomainSpec s;
     s.points = {{"P", {1, 0}}, {"Q", {0.3, 0}}};
     s.curves = {arc("outer", "P", "P", {0, 0}), arc("inner", "Q", "Q", {0, 0})};
     s.loops = {loop({"outer"}), loop({"inner"})};
-    return {"annulus", s, size("0.01 + 0.05 * sqrt(x^2 + y^2)"), 0.95};
+    return {"annulus", s, density_of("0.01 + 0.05 * sqrt(x^2 + y^2)"), 0.95};
 }
 
 Case naca(const std::string& code) {
@@ -52,17 +46,7 @@ Case naca(const std::string& code) {
 }
 
 Case three_element() {
-    DomainSpec s;
-    s.points = {{"F", {10.5, 0.0}}};
-    NacaSpec main_wing{"2412", {1.0, {0.0, 0.0}, 0.0}, TrailingEdge::Closed, AirfoilSurface::Both};
-    NacaSpec slat{"0012", {0.15, {-0.17, -0.03}, 20.0}, TrailingEdge::Closed, AirfoilSurface::Both};
-    NacaSpec flap{"0012", {0.3, {1.03, -0.05}, 20.0}, TrailingEdge::Open, AirfoilSurface::Both};
-    s.curves.push_back({"main", main_wing, std::nullopt, std::nullopt, std::string("wall")});
-    s.curves.push_back({"slat", slat, std::nullopt, std::nullopt, std::string("wall")});
-    s.curves.push_back({"flap", flap, std::nullopt, std::nullopt, std::string("wall")});
-    s.curves.push_back(arc("farfield", "F", "F", {0.5, 0.0}));
-    s.loops = {loop({"farfield"}), loop({"main"}), loop({"slat"}), loop({"flap"})};
-    return {"three-element", s, size("0.004 + 0.08*sqrt((x-0.5)^2+y^2)"), 0.95};
+    return {"three-element", three_element_wing({1.03, -0.05}), density_of("0.004 + 0.08*sqrt((x-0.5)^2+y^2)"), 0.95};
 }
 
 Case plate_with_holes() {
@@ -84,7 +68,7 @@ Case plate_with_holes() {
         s.curves.push_back(arc(n, n, n, holes[i].first, ArcDirection::Ccw, "hole"));
         s.loops.push_back(loop({n.c_str()}));
     }
-    return {"plate-with-holes", s, size("0.1"), 0.95};
+    return {"plate-with-holes", s, density_of("0.1"), 0.95};
 }
 
 Case embedded_touching() {
@@ -98,7 +82,7 @@ Case embedded_touching() {
                 line("cut", "C", "X", "cut")};
     s.loops = {loop({"b1", "b2", "right", "top", "left"})};
     s.embedded = {"wake", "cut"};
-    return {"embedded", s, size("0.02 + 0.05*sqrt((x-0.5)^2+(y-0.3)^2)"), 0.95};
+    return {"embedded", s, density_of("0.02 + 0.05*sqrt((x-0.5)^2+(y-0.3)^2)"), 0.95};
 }
 
 std::vector<Case> cases() {

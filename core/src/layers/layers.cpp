@@ -35,6 +35,9 @@ Vec2 unit(Vec2 v) {
     return n > 0.0 ? v / n : Vec2{0.0, 0.0};
 }
 Vec2 rotate(Vec2 v, double a) { return {v.x * std::cos(a) - v.y * std::sin(a), v.x * std::sin(a) + v.y * std::cos(a)}; }
+// The lengthening of a column at `cosine` to a wall's normal: its layers keep their heights
+// above that wall (capped at kMaxStretch).
+double stretch_for(double cosine) { return cosine > 1.0 / kMaxStretch ? 1.0 / cosine : kMaxStretch; }
 
 struct Column {
     Column(VertexId b, Vec2 d, double s, int sp) : base(b), dir(d), stretch(s), spec(sp) {}
@@ -44,8 +47,9 @@ struct Column {
     int spec;
     int want = 0;  // layers the spec and rho ask for
     int n = 0;     // layers kept
-    /// A wall's end column that slides along the straight boundary curve it ends on: its
-    /// points lie on that line, measured from the base (the line's start or end).
+    /// A column that slides along a curve without layers (the boundary curve a wall ends on,
+    /// or an embedded curve leaving the wall): its points lie on that curve, at arc lengths
+    /// measured from the base (the curve's start or end).
     CurveId slide = kNoCurve;
     bool slide_at_start = false;
     std::vector<std::uint32_t> ids;  // per level 0..n: the point's id in the cells
@@ -82,10 +86,8 @@ public:
                                 {Subject::layers(0)});
         cut_by_rays();
         for (Chain& c : chains_) spread(c);
-        while (cut_crossings()) {
-            if (observer_ && observer_->should_stop()) throw Cancelled();
+        while (cut_crossings())  // each round checks for cancellation first
             for (Chain& c : chains_) spread(c);
-        }
         return build();
     }
 
@@ -136,21 +138,16 @@ private:
         }
     }
 
-    size_t loop_offset(size_t li) const {
-        size_t off = 0;
-        for (size_t i = 0; i < li; ++i) off += d_.loops[i].size();
-        return off;
-    }
-
-    int segment_spec(size_t li, size_t i) const {
-        const BoundarySegment& s = d_.segments[loop_offset(li) + i];
-        return spec_of_[s.curve];
-    }
+    // The segment that starts at vertex i of loop li (loops' segments come loop by loop).
+    const BoundarySegment& loop_segment(size_t li, size_t i) const { return d_.segments[loop_offsets_[li] + i]; }
+    int segment_spec(size_t li, size_t i) const { return spec_of_[loop_segment(li, i).curve]; }
 
     void find_chains() {
+        loop_offsets_.assign(d_.loops.size(), 0);
+        for (size_t li = 1; li < d_.loops.size(); ++li) loop_offsets_[li] = loop_offsets_[li - 1] + d_.loops[li - 1].size();
         for (size_t li = 0; li < d_.loops.size(); ++li) {
             const size_t m = d_.loops[li].size();
-            const size_t off = loop_offset(li);
+            const size_t off = loop_offsets_[li];
             std::vector<int> wall(m);
             for (size_t i = 0; i < m; ++i) {
                 MESHD_INTERNAL_CHECK(d_.segments[off + i].a == d_.loops[li][i], "loop and segments disagree");
@@ -197,7 +194,7 @@ private:
                 // at a fair angle (a symmetry line), else along the wall's normal.
                 const Vec2 wall_normal = start ? n1 : n0;
                 const size_t other_seg = start ? (i + m - 1) % m : i;
-                const CurveId line = d_.segments[loop_offset(c.loop) + other_seg].curve;
+                const CurveId line = loop_segment(c.loop, other_seg).curve;
                 // Along the curve, away from v: its tangent there (a curved boundary leaves the
                 // corner along it, not along the chord to its next point).
                 Vec2 along = unit((start ? prev : next) - pt(v));
@@ -233,8 +230,7 @@ private:
                 }
                 if (straight && angle > kSlideMinDeg * kDeg) {
                     col.dir = along;
-                    const double cosine = dot(along, wall_normal);
-                    col.stretch = cosine > 1.0 / kMaxStretch ? 1.0 / cosine : kMaxStretch;
+                    col.stretch = stretch_for(dot(along, wall_normal));
                     col.slide = line;
                     col.slide_at_start = d_.curve_vertices[line].front() == v;
                 }
@@ -253,9 +249,7 @@ private:
             } else {
                 Vec2 dir = unit(n0 + n1);
                 if (norm(dir) == 0.0) dir = n0;
-                const double cosine = dot(dir, n0);
-                const double stretch = cosine > 1.0 / kMaxStretch ? 1.0 / cosine : kMaxStretch;
-                c.columns.emplace_back(v, dir, stretch, spec);
+                c.columns.emplace_back(v, dir, stretch_for(dot(dir, n0)), spec);
             }
             follow_embedded_lines(c, first, n0, n1);
         }
@@ -276,9 +270,8 @@ private:
                 if (dot(c.columns[k].dir, along) > dot(c.columns[best].dir, along)) best = k;
             Column& col = c.columns[best];
             if (dot(col.dir, along) < std::cos(kFanStepDeg * kDeg) || col.slide != kNoCurve) continue;
-            const double cosine = std::min(dot(along, n0), dot(along, n1));
             col.dir = along;
-            col.stretch = c.columns.size() - first > 1 ? 1.0 : (cosine > 1.0 / kMaxStretch ? 1.0 / cosine : kMaxStretch);
+            col.stretch = c.columns.size() - first > 1 ? 1.0 : stretch_for(std::min(dot(along, n0), dot(along, n1)));
             col.slide = e;
             col.slide_at_start = vs.front() == v;
         }
@@ -824,6 +817,7 @@ private:
     size_t max_points_;
     Observer* observer_;
     std::vector<int> spec_of_;
+    std::vector<size_t> loop_offsets_;  // per loop, the index of its first segment
     std::vector<std::vector<double>> level_;
     std::vector<Chain> chains_;
     std::vector<int> quad_spec_;

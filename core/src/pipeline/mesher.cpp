@@ -100,15 +100,15 @@ void add_layers(Mesh& m, const GrownLayers& g) {
     }
     // Neighbours: the open half-edges of every triangle, matched with their opposites.
     std::unordered_map<std::uint64_t, std::pair<TriangleId, std::uint32_t>> open;
-    auto key = [](VertexId a, VertexId b) { return (static_cast<std::uint64_t>(a) << 32) | b; };
+    using detail::directed_key;
     for (TriangleId t = 0; t < m.triangles.size(); ++t)
         for (std::uint32_t i = 0; i < 3; ++i)
             if (m.triangles[t].n[i] == kNoTriangle)
-                open.emplace(key(m.triangles[t].v[(i + 1) % 3], m.triangles[t].v[(i + 2) % 3]), std::pair{t, i});
+                open.emplace(directed_key(m.triangles[t].v[(i + 1) % 3], m.triangles[t].v[(i + 2) % 3]), std::pair{t, i});
     for (TriangleId t = first; t < m.triangles.size(); ++t) {
         for (std::uint32_t i = 0; i < 3; ++i) {
             Triangle& T = m.triangles[t];
-            auto it = open.find(key(T.v[(i + 2) % 3], T.v[(i + 1) % 3]));
+            auto it = open.find(directed_key(T.v[(i + 2) % 3], T.v[(i + 1) % 3]));
             if (it == open.end()) continue;
             const auto [u, j] = it->second;
             T.n[i] = u;
@@ -119,11 +119,11 @@ void add_layers(Mesh& m, const GrownLayers& g) {
     }
     // Layer triangles on a wall: loop edges.
     std::unordered_map<std::uint64_t, bool> walls;
-    for (const MeshEdge& e : m.edges) walls.emplace(key(e.a, e.b), e.embedded);
+    for (const MeshEdge& e : m.edges) walls.emplace(directed_key(e.a, e.b), e.embedded);
     for (TriangleId t = first; t < m.triangles.size(); ++t) {
         Triangle& T = m.triangles[t];
         for (std::uint32_t i = 0; i < 3; ++i) {
-            auto it = walls.find(key(T.v[(i + 1) % 3], T.v[(i + 2) % 3]));
+            auto it = walls.find(directed_key(T.v[(i + 1) % 3], T.v[(i + 2) % 3]));
             if (it == walls.end()) continue;
             T.constrained = static_cast<std::uint8_t>(T.constrained | (1u << i));
             if (!it->second) T.boundary = static_cast<std::uint8_t>(T.boundary | (1u << i));
@@ -182,7 +182,6 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
                                 {Subject::layers(0)});
         layers = grow_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
         walls = triangulate_boundary(layers->front);
-        r.quality.boundary_layers = layers->figures;
     }
     const Discretisation& fixed = layers ? layers->front : d;
     r.timings.boundary_ms = ms_since(t0);
@@ -239,9 +238,8 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     if (options.order == 2) edge_nodes = add_edge_nodes(m, domain);
 
     begin(Stage::Quality);
-    auto layer_figures = std::move(r.quality.boundary_layers);
     r.quality = measure_quality(m, rho);
-    r.quality.boundary_layers = std::move(layer_figures);
+    if (layers) r.quality.boundary_layers = std::move(layers->figures);
     r.quality.curved_edges = edge_nodes.curved;
     r.quality.straightened_edges = edge_nodes.straightened;
     if (m.order() == 2)
