@@ -87,6 +87,12 @@ const std::vector<Option>& options() {
          [](Config& c, const std::string& v) { c.lease_s = to_double("--lease-s", v, 0.05); }},
         {"--api-keys", "MESHD_API_KEYS", "a JSON file of hashed API keys with their queue shares and rates; every /v1 request then needs one (default: none, open)",
          [](Config& c, const std::string& v) { c.api_keys_file = v; }},
+        {"--ui", "MESHD_UI", "the web page at / (on or off; default on)",
+         [](Config& c, const std::string& v) {
+             if (v == "on" || v == "1" || v == "true") c.ui = true;
+             else if (v == "off" || v == "0" || v == "false") c.ui = false;
+             else throw std::invalid_argument("--ui wants on or off");
+         }},
         {"--log-level", "MESHD_LOG_LEVEL", "trace, debug, info, warn, error, off (default info)",
          [](Config& c, const std::string& v) {
              static const std::map<std::string, int> ok{{"trace", 0}, {"debug", 0}, {"info", 0}, {"warn", 0}, {"error", 0}, {"off", 0}};

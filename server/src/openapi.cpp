@@ -34,6 +34,12 @@ json format_param() {
             {"schema", {{"type", "string"}, {"enum", names}, {"default", "json"}}}};
 }
 
+json sizes_param() {
+    return {{"name", "sizes"}, {"in", "query"}, {"required", false},
+            {"description", "format=json: also the target size at each point (mesh.sizes)"},
+            {"schema", {{"type", "boolean"}, {"default", false}}}};
+}
+
 json id_param() {
     return {{"name", "id"}, {"in", "path"}, {"required", true}, {"schema", {{"type", "string"}, {"pattern", "^[0-9a-f]+$"}}}};
 }
@@ -63,7 +69,7 @@ json operation(const std::string& method, const std::string& path) {
                                  "or the server is draining or its job store unreachable (503, Retry-After)");
     if (method == "post" && path == "/v1/meshes")
         return {{"summary", "Mesh synchronously"},
-                {"parameters", {format_param()}},
+                {"parameters", {format_param(), sizes_param()}},
                 {"requestBody", req_body},
                 {"responses",
                  {{"200", {{"description", "the mesh in the asked format"}, {"content", mesh_content()}}},
@@ -91,7 +97,7 @@ json operation(const std::string& method, const std::string& path) {
                                {"404", problem_response("unknown or expired job")}}}};
     if (method == "get" && path == "/v1/jobs/{id}/mesh")
         return {{"summary", "The finished mesh"},
-                {"parameters", {id_param(), format_param()}},
+                {"parameters", {id_param(), format_param(), sizes_param()}},
                 {"responses",
                  {{"200", {{"description", "the mesh"}, {"content", mesh_content()}}},
                   {"404", problem_response("unknown job")},
@@ -113,6 +119,9 @@ json operation(const std::string& method, const std::string& path) {
     if (path == "/metrics")
         return {{"summary", "Prometheus metrics"},
                 {"responses", {{"200", {{"description", "text exposition format 0.0.4"}, {"content", {{"text/plain", {{"schema", {{"type", "string"}}}}}}}}}}}};
+    if (path == "/")
+        return {{"summary", "The web page: write or pick a request, mesh it, look at it, download it"},
+                {"responses", {{"200", {{"description", "the page"}, {"content", {{"text/html", {{"schema", {{"type", "string"}}}}}}}}}}}};
     if (path == "/v1/openapi.json")
         return {{"summary", "This document"}, {"responses", {{"200", {{"description", "OpenAPI 3"}}}}}};
     return {{"summary", "?"}, {"responses", {{"200", {{"description", "?"}}}}}};

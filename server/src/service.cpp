@@ -7,6 +7,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -18,6 +19,7 @@
 #include "meshd/server/access.hpp"
 #include "peer.hpp"
 #include "redis_store.hpp"
+#include "web_assets.hpp"
 
 namespace meshd::server {
 
@@ -56,8 +58,9 @@ std::string rfc3339(std::chrono::system_clock::time_point t) {
 
 std::string route_of(const std::string& path) {
     if (path == "/v1/meshes" || path == "/v1/jobs" || path == "/healthz" || path == "/livez" || path == "/readyz" ||
-        path == "/metrics" || path == "/v1/openapi.json")
+        path == "/metrics" || path == "/v1/openapi.json" || path == "/")
         return path;
+    if (path.rfind("/ui/", 0) == 0) return "/ui/{file}";
     if (path.rfind("/v1/jobs/", 0) == 0) {
         const std::string rest = path.substr(9);
         if (rest.find('/') == std::string::npos) return "/v1/jobs/{id}";
@@ -102,17 +105,23 @@ private:
 
 // Streams the mesh; past `until` the connection is dropped (the answer is incomplete: a
 // client that reads too slowly cannot hold a thread and the mesh beyond the time limit).
+// `?sizes=true` with format=json: rho at each point too (write_json).
+bool sizes_asked(const httplib::Request& req) { return req.has_param("sizes") && req.get_param_value("sizes") == "true"; }
+
 void send_mesh(httplib::Response& res, std::shared_ptr<const core::MeshResult> result, api::Format f,
-               api::FoamOptions foam, std::chrono::steady_clock::time_point until) {
+               api::FoamOptions foam, std::chrono::steady_clock::time_point until, bool sizes) {
     res.status = 200;
     if (f == api::Format::Foam) res.set_header("Content-Disposition", "attachment; filename=\"polyMesh.tar\"");
     if (f == api::Format::Cgns) res.set_header("Content-Disposition", "attachment; filename=\"mesh.cgns\"");
-    res.set_chunked_content_provider(api::content_type(f), [result, f, foam = std::move(foam), until](size_t, httplib::DataSink& sink) {
+    res.set_chunked_content_provider(api::content_type(f), [result, f, foam = std::move(foam), until, sizes](size_t, httplib::DataSink& sink) {
         bool ok = true;
         {
             SinkBuf buf(sink, until);
             std::ostream os(&buf);
-            api::write_mesh(f, *result, os, foam);
+            if (f == api::Format::Json && sizes)
+                api::write_json(*result, os, true);
+            else
+                api::write_mesh(f, *result, os, foam);
             os.flush();
             ok = buf.ok();
         }
@@ -466,7 +475,7 @@ void Service::install() {
             send_problem(res, problem(499, "client-closed-request", "Client closed request",
                                       "the client closed the connection before the answer; the job was cancelled"));
         else if (status == JobStatus::Succeeded)
-            send_mesh(res, std::move(result), *f, std::move(foam), deadline);
+            send_mesh(res, std::move(result), *f, std::move(foam), deadline, sizes_asked(req));
         else if (status == JobStatus::Failed)
             send_problem(res, *error);
         else
@@ -545,7 +554,8 @@ void Service::install() {
             if (auto why = api::second_order_refusal(*f)) return send_problem(res, second_order_problem(*why));
         send_mesh(res, std::move(job->result), *f, std::move(job->foam),
                   std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                         std::chrono::duration<double>(config_.job_timeout_s)));
+                                                         std::chrono::duration<double>(config_.job_timeout_s)),
+                  sizes_asked(req));
     });
 
     add("delete", "/v1/jobs/{id}");
@@ -567,6 +577,32 @@ void Service::install() {
     add("get", "/v1/openapi.json");
     s.Get("/v1/openapi.json", [doc = openapi()](const httplib::Request&, httplib::Response& res) {
         res.set_content(doc, "application/json");
+    });
+
+    if (config_.ui) install_page(s, add);
+}
+
+// GET / and /ui/...: the web page (web/) and the examples it offers, from the binary. The
+// page talks only to this server: its policy lets it load nothing from anywhere else.
+void Service::install_page(httplib::Server& s, const std::function<void(const char*, const char*)>& add) {
+    auto send = [](httplib::Response& res, const WebAsset& a) {
+        res.set_header("Content-Security-Policy",
+                       "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' data: blob:; "
+                       "connect-src 'self'; base-uri 'none'; form-action 'none'; frame-ancestors 'none'");
+        res.set_header("X-Content-Type-Options", "nosniff");
+        res.set_header("Cache-Control", "no-cache");
+        res.set_content(reinterpret_cast<const char*>(a.data), a.size, a.content_type);
+    };
+    add("get", "/");
+    s.Get("/", [send](const httplib::Request&, httplib::Response& res) {
+        for (std::size_t i = 0; i < kWebAssetCount; ++i)
+            if (std::strcmp(kWebAssets[i].path, "/ui/index.html") == 0) return send(res, kWebAssets[i]);
+        res.status = 404;
+    });
+    s.Get(R"(/ui/[A-Za-z0-9_./-]+)", [send](const httplib::Request& req, httplib::Response& res) {
+        for (std::size_t i = 0; i < kWebAssetCount; ++i)
+            if (req.path == kWebAssets[i].path) return send(res, kWebAssets[i]);
+        res.status = 404;
     });
 }
 

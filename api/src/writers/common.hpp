@@ -67,6 +67,20 @@ inline core::Vec2 any_point(const Mesh& m, size_t id) {
 }
 // A 6-node triangle in the order VTK, gmsh and CGNS share: corners, then the nodes on
 // (v0, v1), (v1, v2), (v2, v0).
+/// The target size (rho) at every point of all_points(): an edge node takes its edge's ends'
+/// mean.
+inline std::vector<double> point_sizes(const Mesh& m) {
+    std::vector<double> size(all_points(m), 0.0);
+    for (size_t v = 0; v < m.point_count() && v < m.target_size.size(); ++v) size[v] = m.target_size[v];
+    for (size_t t = 0; t < m.edge_node.size(); ++t)
+        for (size_t i = 0; i < 3; ++i) {
+            const auto a = m.triangles[t].v[(i + 1) % 3], b = m.triangles[t].v[(i + 2) % 3];
+            if (a < m.target_size.size() && b < m.target_size.size())
+                size[m.point_count() + m.edge_node[t][i]] = (m.target_size[a] + m.target_size[b]) / 2;
+        }
+    return size;
+}
+
 inline std::array<size_t, 6> six_nodes(const Mesh& m, size_t t) {
     const auto& v = m.triangles[t].v;
     const auto& e = m.edge_node[t];

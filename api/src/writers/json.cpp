@@ -49,7 +49,7 @@ std::string metrics_json(const MeshResult& r) {
     return j.dump();
 }
 
-void write_json(const MeshResult& r, std::ostream& os) {
+void write_json(const MeshResult& r, std::ostream& os, bool sizes) {
     const Mesh& m = r.mesh;
     const bool quadratic = m.order() == 2;
     // Second order: the edge nodes follow the vertices; triangles list six nodes and edges
@@ -59,7 +59,14 @@ void write_json(const MeshResult& r, std::ostream& os) {
         const core::Vec2 p = any_point(m, v);
         os << (v ? ",[" : "[") << Num(p.x) << ',' << Num(p.y) << ']';
     }
-    os << "],\"triangles\":[";
+    os << ']';
+    if (sizes) {
+        os << ",\"sizes\":[";
+        const std::vector<double> size = point_sizes(m);
+        for (size_t v = 0; v < size.size(); ++v) os << (v ? "," : "") << Num(size[v]);
+        os << ']';
+    }
+    os << ",\"triangles\":[";
     for (size_t t = 0; t < m.triangles.size(); ++t) {
         const auto& T = m.triangles[t];
         os << (t ? ",[" : "[") << T.v[0] << ',' << T.v[1] << ',' << T.v[2];

@@ -60,16 +60,7 @@ void write_vtk(const MeshResult& r, std::ostream& os) {
     for (const auto& q : m.quads) put_be(os, quad_quality(m, q));
     for (size_t i = 0; i < ne; ++i) put_be(os, 0.0);
     os << "\nPOINT_DATA " << np << "\nSCALARS target_size double 1\nLOOKUP_TABLE default\n";
-    // An edge node's target size: its edge's ends' mean.
-    std::vector<double> mid_size(m.edge_nodes.size(), 0.0);
-    for (size_t t = 0; t < m.edge_node.size(); ++t)
-        for (size_t i = 0; i < 3; ++i) {
-            const auto a = m.triangles[t].v[(i + 1) % 3], b = m.triangles[t].v[(i + 2) % 3];
-            if (a < m.target_size.size() && b < m.target_size.size())
-                mid_size[m.edge_node[t][i]] = (m.target_size[a] + m.target_size[b]) / 2;
-        }
-    for (size_t v = 0; v < np; ++v)
-        put_be(os, v < m.point_count() ? (v < m.target_size.size() ? m.target_size[v] : 0.0) : mid_size[v - m.point_count()]);
+    for (const double size : point_sizes(m)) put_be(os, size);
     os << '\n';
 }
 

@@ -38,7 +38,9 @@ struct FoamOptions;
 void write_mesh(Format f, const core::MeshResult& r, std::ostream& os, const FoamOptions& foam);
 void write_mesh(Format f, const core::MeshResult& r, std::ostream& os);
 
-void write_json(const core::MeshResult& r, std::ostream& os);
+/// `sizes`: also the target size (rho) at each point, as "sizes" beside "points" (the web page
+/// colours triangles by their size against it; `?sizes=true` on format=json).
+void write_json(const core::MeshResult& r, std::ostream& os, bool sizes = false);
 /// Triangles (VTK_TRIANGLE) then loop and embedded edges (VTK_LINE); cell data "tag" (the
 /// tag id of each line, -1 for triangles) and "quality" (radius ratio, 0 for lines); point
 /// data "target_size". Tag names are in the header line.

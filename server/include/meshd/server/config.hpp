@@ -37,6 +37,9 @@ struct Config {
     double lease_s = 10;
     /// --api-keys, MESHD_API_KEYS: a file of hashed API keys (access.hpp); none: open.
     std::string api_keys_file;
+    /// --ui, MESHD_UI: the web page at / and its files under /ui/ ("off" for an API-only
+    /// deployment: both then answer 404).
+    bool ui = true;
     std::string log_level = "info";       ///< --log-level, MESHD_LOG_LEVEL
     bool log_json = false;                ///< --log-json, MESHD_LOG_JSON=1
 };

@@ -4,6 +4,7 @@
 /// the JobManager, asynchronous jobs to the job store (store.hpp).
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -52,6 +53,7 @@ public:
 private:
     void install();
     void install_probes(httplib::Server& s, bool document);
+    void install_page(httplib::Server& s, const std::function<void(const char*, const char*)>& add);
 
     Config config_;
     Access access_;
