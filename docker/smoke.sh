@@ -29,6 +29,11 @@ if $sudo podman exec "$name" sh -c 'command -v cc || command -v gcc || command -
   fail "the image holds a compiler"
 fi
 
+# The web page, from the binary.
+page=$(curl -fs "http://127.0.0.1:$port/") || fail "no page at /"
+grep -q '<title>meshd' <<<"$page" || fail "the page at / is not meshd's"
+curl -fs "http://127.0.0.1:$port/ui/app.js" >/dev/null || fail "no /ui/app.js"
+
 # The example mesh.
 out=$(mktemp)
 code=$(curl -s -o "$out" -w '%{http_code}' -X POST -H 'Content-Type: application/json' \

@@ -15,6 +15,8 @@ packages=(
   # the readers the tests read our files back with
   python3 python3-numpy python3-meshio python3-vtk9 gmsh python3-gmsh python3-dolfinx
   openfoam
+  # the browser the web page's tests drive (tests/web, puppeteer-core from npm)
+  chromium
   # the fuzz harnesses (scripts/fuzz.sh): Clang with libFuzzer and its sanitizer runtimes
   clang-16 libfuzzer-16-dev libclang-rt-16-dev
 )
@@ -38,4 +40,8 @@ fi
 cd "$(dirname "$0")/.."
 if [ ! -d tests/openapi/node_modules ]; then
   (cd tests/openapi && npm ci --no-audit --no-fund --silent)
+fi
+# puppeteer-core for the web page's tests (it drives Debian's chromium; it downloads no browser).
+if [ ! -d tests/web/node_modules ]; then
+  (cd tests/web && npm ci --no-audit --no-fund --silent)
 fi
