@@ -377,7 +377,10 @@ function showHistogram(m) {
   svg.setAttribute('aria-label', 'Quality histogram: ' + h.map((c, i) => `${(i / 10).toFixed(1)} to ${((i + 1) / 10).toFixed(1)}: ${c}`).join('; '));
 }
 
-const fmt = (v, digits = 3) => (typeof v === 'number' ? (Number.isInteger(v) ? v.toLocaleString('en') : v.toPrecision(digits)) : '–');
+const fmt = (v, digits = 3) => {
+  if (typeof v === 'string') return v;
+  return typeof v === 'number' ? (Number.isInteger(v) ? v.toLocaleString('en') : v.toPrecision(digits)) : '–';
+};
 
 function showMetrics(m) {
   const rows = [

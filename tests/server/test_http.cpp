@@ -201,6 +201,42 @@ TEST_P(Http, SyncMeshInEveryFormatMatchesTheCli) {
     EXPECT_EQ(bad->status, 400);
 }
 
+// A browser accepts Brotli; cpp-httplib's Brotli is at its slowest quality (ten times gzip's
+// time on a large mesh), so such a client gets gzip, and one that takes only Brotli gets the
+// plain body. ?sizes=true adds rho at each point to the JSON.
+TEST_P(Http, BrowsersGetGzipNotBrotliAndSizesOnRequest) {
+    auto server = serve({});
+    ServerProcess& s = *server;
+    auto c = client(s);
+    auto plain = c.Post("/v1/meshes", naca_request(), "application/json");
+    ASSERT_TRUE(plain);
+    ASSERT_EQ(plain->status, 200);
+    auto browser = c.Post("/v1/meshes", {{"Accept-Encoding", "gzip, deflate, br, zstd"}}, naca_request(), "application/json");
+    ASSERT_TRUE(browser);
+    ASSERT_EQ(browser->status, 200);
+    EXPECT_EQ(browser->get_header_value("Content-Encoding"), "gzip");
+    const json a = json::parse(plain->body), b = json::parse(browser->body);  // the client inflates it
+    EXPECT_EQ(a["mesh"], b["mesh"]);
+    auto brotli_only = c.Post("/v1/meshes", {{"Accept-Encoding", "br"}}, naca_request(), "application/json");
+    ASSERT_TRUE(brotli_only);
+    EXPECT_EQ(brotli_only->get_header_value("Content-Encoding"), "");
+    EXPECT_EQ(json::parse(brotli_only->body)["mesh"], a["mesh"]);
+
+    EXPECT_FALSE(a["mesh"].contains("sizes"));
+    auto sized = c.Post("/v1/meshes?sizes=true", naca_request(), "application/json");
+    ASSERT_TRUE(sized);
+    const json m = json::parse(sized->body)["mesh"];
+    EXPECT_EQ(m["points"], a["mesh"]["points"]);
+    ASSERT_EQ(m["sizes"].size(), m["points"].size());
+    // The example's density, evaluated here at each point (clamped by nothing at these sizes).
+    for (size_t i = 0; i < m["points"].size(); ++i) {
+        const double x = m["points"][i][0], y = m["points"][i][1];
+        const double rho = x < 0.5 ? 0.1 * std::sqrt(x * x + y * y) + 0.007
+                                   : 0.1 * std::sqrt((x - 1.008930411365) * (x - 1.008930411365) + y * y) + 0.006;
+        ASSERT_NEAR(m["sizes"][i].get<double>(), rho, 1e-9 * rho) << i;
+    }
+}
+
 TEST_P(Http, AsyncLifeCycle) {
     auto server = serve({});
     ServerProcess& s = *server;
