@@ -178,6 +178,10 @@ for (const name of Object.keys(OUTSIDE)) {
     assert.equal(shown.quads, (answer.mesh.quads || []).length);
     assert.equal(shown.table.Triangles, answer.metrics.triangles.toLocaleString('en'));
     assert.deepEqual(shown.legend, Object.keys(answer.mesh.boundaries));
+    for (const w of answer.metrics.boundary_layers || []) {
+      assert.equal(shown.table.layers, `${w.layers.min}–${w.layers.max}`);
+      assert.equal(shown.table.columns, w.columns.toLocaleString('en'));
+    }
     // Inside: the centroids of the largest cells (several pixels across once fitted) are drawn.
     await page.evaluate(() => window.meshdPage.view.fit());
     const cells = [...answer.mesh.triangles.map((t) => t.slice(0, 3)), ...(answer.mesh.quads || [])];

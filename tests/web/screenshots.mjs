@@ -48,13 +48,13 @@ try {
   await page.evaluate(() => window.meshdPage.view.show(-0.2, -0.1, 0.1, 0.08));
   await page.mouse.move(5, 5);
   await page.screenshot({ path: path.join(OUT, 'page-high-lift.png') });
-  // 3. A problem shown at its field.
+  // 3. A problem shown at its field: hole 2 moved onto hole 1.
   await page.select('#colour', 'quality');
   await page.select('#example', 'plate_with_holes');
   await page.waitForFunction(() => document.getElementById('editor').value.includes('hole3'));
   await page.evaluate(() => {
     const e = document.getElementById('editor');
-    e.value = e.value.replace('"center": [2.5, 0.6]', '"center": [2.5, 0.5]');
+    e.value = e.value.replace('"H2": [2.8, 0.6]', '"H2": [1.9, 1.0]').replace('"center": [2.5, 0.6]', '"center": [1.6, 1.0]');
     e.dispatchEvent(new Event('input'));
   });
   await page.click('#mesh');
