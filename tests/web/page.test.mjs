@@ -307,7 +307,8 @@ async function downloads(label) {
     assert.equal(want.status, 200);
     if (format === 'cgns') {
       // HDF5 stamps each object with the second it was written, and checksums its headers:
-      // the same length, and differences only in runs of at most 4 bytes (a time, a checksum).
+      // the same length, and differences only in short runs (a 4-byte time, a 4-byte checksum,
+      // at most the two side by side), under 1% of the bytes.
       assert.equal(got.length, want.bytes.length);
       let run = 0, longest = 0, differ = 0;
       for (let i = 0; i < got.length; i++) {
@@ -315,7 +316,7 @@ async function downloads(label) {
         differ += run > 0;
         longest = Math.max(longest, run);
       }
-      assert.ok(longest <= 4 && differ < got.length / 100, `${differ} bytes differ, in runs up to ${longest}`);
+      assert.ok(longest <= 8 && differ < got.length / 100, `${differ} bytes differ, in runs up to ${longest}`);
     } else if (format === 'json') {
       // The mesh byte for byte; the metrics but for the time each run took.
       const [gotMesh, gotMetrics] = got.toString().split(',"metrics":');
