@@ -2,7 +2,7 @@
 // with progress and cancel when large), the view, the quality panel and the downloads. It
 // talks only to the server that served it.
 
-import { MeshView, BACKGROUND } from './view.js';
+import { MeshView } from './view.js';
 import { place, lineOf } from './jsonpos.js';
 
 // Meshes forecast above this many points go to a job (the server refuses the synchronous
@@ -211,14 +211,12 @@ async function meshIt() {
 // Synchronously, with max_points lowered to SYNC_POINTS: true when this settled it (a mesh or
 // a problem), false when the mesh is too large for it (then a job).
 async function meshSync(body, request) {
-  const options = request && typeof request === 'object' && !Array.isArray(request) ? request.options : undefined;
-  const own = options && typeof options === 'object' ? options.max_points : undefined;
-  let capped = body, lowered = false;
-  if (request && typeof request === 'object' && !Array.isArray(request) && (options === undefined || (typeof options === 'object' && !Array.isArray(options)))
-      && !(typeof own === 'number' && own <= SYNC_POINTS)) {
-    capped = JSON.stringify({ ...request, options: { ...(options || {}), max_points: SYNC_POINTS } });
-    lowered = true;
-  }
+  const isObject = (v) => v !== null && typeof v === 'object' && !Array.isArray(v);
+  const options = isObject(request) ? request.options : undefined;
+  const own = isObject(options) ? options.max_points : undefined;
+  // A request of another shape goes as it is: the server names what is wrong with it.
+  const lowered = isObject(request) && (options === undefined || isObject(options)) && !(typeof own === 'number' && own <= SYNC_POINTS);
+  const capped = lowered ? JSON.stringify({ ...request, options: { ...options, max_points: SYNC_POINTS } }) : body;
   state.abort = new AbortController();
   setBusy(true, true);
   jobStatus('meshing…');
@@ -406,13 +404,15 @@ function showMetrics(m) {
   const t = m.timings_ms || {};
   rows.push(['Time (ms)'], ['boundary', t.boundary], ['interior', t.interior], ['triangulation', t.triangulation],
             ['smoothing', t.smoothing], ['total', t.total]);
-  $('metrics').tBodies[0].replaceChildren(...rows.map(([name, value]) => {
+  // A row of one cell is a group's heading.
+  $('metrics').tBodies[0].replaceChildren(...rows.map((row) => {
+    const [name, value] = row;
     const tr = document.createElement('tr');
     const th = document.createElement('th');
     th.scope = 'row';
     th.textContent = name;
     tr.append(th);
-    if (value === undefined && rows.find((r) => r[0] === name)?.length === 1) {
+    if (row.length === 1) {
       tr.className = 'group';
       th.colSpan = 2;
     } else {
@@ -509,7 +509,6 @@ function init() {
   const key = $('api-key');
   key.value = sessionStorage.getItem('meshd-api-key') || '';
   key.addEventListener('change', () => sessionStorage.setItem('meshd-api-key', key.value));
-  document.documentElement.style.setProperty('--view-background', hex(BACKGROUND));
   loadExamples().then(() => { window.meshdPage.ready = true; });
 }
 

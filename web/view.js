@@ -66,7 +66,7 @@ export const TAG_COLOURS = [
   [0.55, 0.35, 0.0], [0.45, 0.2, 0.8], [0.95, 0.7, 0.0], [0.3, 0.3, 0.3], [0.0, 0.7, 0.8],
 ];
 
-export const BACKGROUND = [1, 1, 1];
+const BACKGROUND = [1, 1, 1];
 
 function compile(gl, vs, fs) {
   const prog = gl.createProgram();
@@ -130,6 +130,7 @@ export class MeshView {
     this.mesh = null;
     this.view = { cx: 0, cy: 0, scale: 1 };  // world centre and pixels per world unit
     this.hovered = -1;
+    this.highlight = gl.createBuffer();  // the hovered cell's outline
     this.installInput();
     new ResizeObserver(() => this.draw()).observe(canvas);
   }
@@ -151,13 +152,16 @@ export class MeshView {
     this.origin = [(x0 + x1) / 2, (y0 + y1) / 2];
     const [ox, oy] = this.origin;
     // Cells as GPU triangles: a quad is two, with the diagonal hidden from the edge drawing.
+    // Their corners (point indices) stay for picking.
     const nGpu = tris.length + 2 * quads.length;
     const pos = new Float32Array(nGpu * 6), bary = new Uint8Array(nGpu * 12);
+    this.corners = new Uint32Array(nGpu * 3);
     this.cellOf = new Int32Array(nGpu);  // GPU triangle -> cell (quads after triangles)
     let g = 0;
     const put = (a, b, c, cell, hide) => {
       const vs = [a, b, c];
       for (let k = 0; k < 3; k++) {
+        this.corners[3 * g + k] = vs[k];
         pos[g * 6 + 2 * k] = P[vs[k]][0] - ox;
         pos[g * 6 + 2 * k + 1] = P[vs[k]][1] - oy;
         for (let j = 0; j < 3; j++) bary[g * 12 + 4 * k + j] = j === k || j === hide ? 255 : 0;
@@ -197,7 +201,6 @@ export class MeshView {
       return b;
     });
     this.lineCounts = lines.map((a) => a.length / 2);
-    this.highlight = gl.createBuffer();
     this.fit();
   }
 
@@ -381,17 +384,16 @@ export class MeshView {
     const [x0, y0, x1, y1] = this.bbox;
     const w = Math.max(x1 - x0, 1e-300), h = Math.max(y1 - y0, 1e-300);
     const nx = Math.max(1, Math.min(4096, Math.round(Math.sqrt(n * w / h)))), ny = Math.max(1, Math.min(4096, Math.round(Math.sqrt(n * h / w))));
-    const pos = this.gpuPositions();
+    const P = this.mesh.points, C = this.corners;
+    const cl = (v, m) => Math.max(0, Math.min(m - 1, v));
     const range = (g) => {
       let a = Infinity, b = Infinity, c = -Infinity, d = -Infinity;
       for (let k = 0; k < 3; k++) {
-        const x = pos[g * 6 + 2 * k], y = pos[g * 6 + 2 * k + 1];
+        const [x, y] = P[C[3 * g + k]];
         a = Math.min(a, x); b = Math.min(b, y); c = Math.max(c, x); d = Math.max(d, y);
       }
-      const [ox, oy] = this.origin;
-      const cl = (v, m) => Math.max(0, Math.min(m - 1, v));
-      return [cl(Math.floor((a + ox - x0) / w * nx), nx), cl(Math.floor((b + oy - y0) / h * ny), ny),
-              cl(Math.floor((c + ox - x0) / w * nx), nx), cl(Math.floor((d + oy - y0) / h * ny), ny)];
+      return [cl(Math.floor((a - x0) / w * nx), nx), cl(Math.floor((b - y0) / h * ny), ny),
+              cl(Math.floor((c - x0) / w * nx), nx), cl(Math.floor((d - y0) / h * ny), ny)];
     };
     const start = new Uint32Array(nx * ny + 1);
     for (let g = 0; g < n; g++) {
@@ -405,39 +407,24 @@ export class MeshView {
       const [i0, j0, i1, j1] = range(g);
       for (let j = j0; j <= j1; j++) for (let i = i0; i <= i1; i++) items[fill[j * nx + i]++] = g;
     }
-    this.grid = { nx, ny, start, items, pos };
-  }
-
-  gpuPositions() {
-    // Rebuilt from the mesh (the GPU's copy cannot be read back in WebGL 2 cheaply).
-    const m = this.mesh, P = m.points, [ox, oy] = this.origin;
-    const tris = m.triangles || [], quads = m.quads || [];
-    const pos = new Float64Array(this.gpuCount * 6);
-    let g = 0;
-    const put = (a, b, c) => {
-      [a, b, c].forEach((v, k) => { pos[g * 6 + 2 * k] = P[v][0] - ox; pos[g * 6 + 2 * k + 1] = P[v][1] - oy; });
-      g++;
-    };
-    tris.forEach((t) => put(t[0], t[1], t[2]));
-    quads.forEach((q) => { put(q[0], q[1], q[2]); put(q[0], q[2], q[3]); });
-    return pos;
+    this.grid = { nx, ny, start, items };
   }
 
   // The cell (index: triangles first, then quads) at world point (x, y), or -1.
   cellAt(x, y) {
     if (!this.mesh) return -1;
     if (!this.grid) this.buildGrid();
-    const { nx, ny, start, items, pos } = this.grid;
+    const { nx, ny, start, items } = this.grid;
     const [x0, y0, x1, y1] = this.bbox;
     const i = Math.floor((x - x0) / Math.max(x1 - x0, 1e-300) * nx), j = Math.floor((y - y0) / Math.max(y1 - y0, 1e-300) * ny);
     if (i < 0 || j < 0 || i >= nx || j >= ny) return -1;
-    const px = x - this.origin[0], py = y - this.origin[1];
+    const P = this.mesh.points, C = this.corners;
     for (let k = start[j * nx + i]; k < start[j * nx + i + 1]; k++) {
-      const g = items[k], o = g * 6;
+      const g = items[k];
       let inside = true;
       for (let e = 0; e < 3 && inside; e++) {
-        const ax = pos[o + 2 * e], ay = pos[o + 2 * e + 1], bx = pos[o + 2 * ((e + 1) % 3)], by = pos[o + 2 * ((e + 1) % 3) + 1];
-        inside = (bx - ax) * (py - ay) - (by - ay) * (px - ax) >= 0;
+        const [ax, ay] = P[C[3 * g + e]], [bx, by] = P[C[3 * g + (e + 1) % 3]];
+        inside = (bx - ax) * (y - ay) - (by - ay) * (x - ax) >= 0;
       }
       if (inside) return this.cellOf[g];
     }

@@ -8,39 +8,18 @@
 // usage: node bench/web/view_bench.mjs [scale ...]   scale multiplies the NACA 0012 example's
 // sizes (default 0.1 0.05 0.03: about 0.8, 3.2 and 9 x 10^5 triangles)
 
-import { spawn } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
-import { createRequire } from 'node:module';
-import { fileURLToPath } from 'node:url';
+import { ROOT, launchChromium, openPage, startMeshd } from '../../tests/web/harness.mjs';
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..');
-// puppeteer-core is installed for the browser tests.
-const require = createRequire(path.join(ROOT, 'tests', 'web', 'package.json'));
-const puppeteer = require('puppeteer-core');
-const MESHD = process.env.MESHD || path.join(ROOT, 'build', 'server', 'meshd');
 const scales = process.argv.slice(2).map(Number);
 if (!scales.length) scales.push(0.1, 0.05, 0.03);
 
-const server = spawn(MESHD, ['--port', '0', '--memory-budget-mb', '8000', '--result-memory-mb', '4000'], { stdio: ['ignore', 'pipe', 'inherit'] });
-const origin = await new Promise((resolve) => {
-  let log = '';
-  server.stdout.on('data', (d) => {
-    log += d;
-    const m = /listening on ([0-9.]+):(\d+)/.exec(log);
-    if (m) resolve(`http://${m[1]}:${m[2]}`);
-  });
-});
-const browser = await puppeteer.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: true,
-  args: ['--no-sandbox', '--disable-dev-shm-usage', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--js-flags=--max-old-space-size=8192'],
-});
+const { proc: server, origin } = await startMeshd(['--memory-budget-mb', '8000', '--result-memory-mb', '4000']);
+const browser = await launchChromium(['--js-flags=--max-old-space-size=8192']);
 const rows = [];
 try {
-  const page = await browser.newPage();
-  await page.setViewport({ width: 1400, height: 820 });
-  await page.goto(`${origin}/`);
-  await page.waitForFunction(() => window.meshdPage?.ready);
+  const page = await openPage(browser, origin);
   const base = JSON.parse(fs.readFileSync(path.join(ROOT, 'examples', 'naca0012.json'), 'utf8'));
   for (const scale of scales) {
     const request = structuredClone(base);

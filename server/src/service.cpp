@@ -7,7 +7,6 @@
 
 #include <cctype>
 #include <cmath>
-#include <cstring>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -103,8 +102,6 @@ private:
     bool ok_ = true;
 };
 
-// Streams the mesh; past `until` the connection is dropped (the answer is incomplete: a
-// client that reads too slowly cannot hold a thread and the mesh beyond the time limit).
 // cpp-httplib answers a client that accepts Brotli (every browser) with Brotli at its
 // slowest quality: 10.6 s for a 5.7 MB mesh that gzip sends in 1.1 s. Such a client gets
 // gzip. (The request object is httplib's own, not const: its headers may be edited here.)
@@ -117,6 +114,8 @@ void gzip_only(httplib::Request& req) {
 // `?sizes=true` with format=json: rho at each point too (write_json).
 bool sizes_asked(const httplib::Request& req) { return req.has_param("sizes") && req.get_param_value("sizes") == "true"; }
 
+// Streams the mesh; past `until` the connection is dropped (the answer is incomplete: a
+// client that reads too slowly cannot hold a thread and the mesh beyond the time limit).
 void send_mesh(httplib::Response& res, std::shared_ptr<const core::MeshResult> result, api::Format f,
                api::FoamOptions foam, std::chrono::steady_clock::time_point until, bool sizes) {
     res.status = 200;
@@ -603,17 +602,16 @@ void Service::install_page(httplib::Server& s, const std::function<void(const ch
         res.set_header("Cache-Control", "no-cache");
         res.set_content(reinterpret_cast<const char*>(a.data), a.size, a.content_type);
     };
+    // "/" is the page itself; anything else under /ui/ not built in is a 404.
+    auto serve = [send](const httplib::Request& req, httplib::Response& res) {
+        const std::string path = req.path == "/" ? "/ui/index.html" : req.path;
+        for (std::size_t i = 0; i < kWebAssetCount; ++i)
+            if (path == kWebAssets[i].path) return send(res, kWebAssets[i]);
+        res.status = 404;
+    };
     add("get", "/");
-    s.Get("/", [send](const httplib::Request&, httplib::Response& res) {
-        for (std::size_t i = 0; i < kWebAssetCount; ++i)
-            if (std::strcmp(kWebAssets[i].path, "/ui/index.html") == 0) return send(res, kWebAssets[i]);
-        res.status = 404;
-    });
-    s.Get(R"(/ui/[A-Za-z0-9_./-]+)", [send](const httplib::Request& req, httplib::Response& res) {
-        for (std::size_t i = 0; i < kWebAssetCount; ++i)
-            if (req.path == kWebAssets[i].path) return send(res, kWebAssets[i]);
-        res.status = 404;
-    });
+    s.Get("/", serve);
+    s.Get(R"(/ui/[A-Za-z0-9_./-]+)", serve);
 }
 
 }  // namespace meshd::server

@@ -6,15 +6,10 @@
 
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import puppeteer from 'puppeteer-core';
+import { ROOT, example, launchChromium, meshAndWait as meshIn, openPage, pickExample as pickIn, startMeshd } from './harness.mjs';
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..');
-const MESHD = process.env.MESHD || path.join(ROOT, 'build', 'server', 'meshd');
-const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
 const WHITE = [255, 255, 255];
 
 // Points outside each example's domain (inside an airfoil or a hole, or across a symmetry
@@ -34,22 +29,8 @@ const OUTSIDE = {
 let server, origin, browser, page;
 const consoleErrors = [];
 const blocked = [];
-let serverLog = '';
-
-function startServer(args) {
-  return new Promise((resolve, reject) => {
-    const proc = spawn(MESHD, ['--port', '0', ...args], { stdio: ['ignore', 'pipe', 'pipe'] });
-    let log = '';
-    proc.stdout.on('data', (d) => {
-      log += d;
-      serverLog += d;
-      const m = /listening on ([0-9.]+):(\d+)/.exec(log);
-      if (m) resolve({ proc, origin: `http://${m[1]}:${m[2]}` });
-    });
-    proc.stderr.on('data', (d) => { serverLog += d; });
-    proc.on('exit', (code) => reject(new Error(`meshd exited (${code}): ${log}`)));
-  });
-}
+const pickExample = (name) => pickIn(page, name);
+const meshAndWait = () => meshIn(page);
 
 async function api(pathname, body, format = 'json') {
   const res = await fetch(`${origin}${pathname}${pathname.includes('?') ? '&' : '?'}format=${format}`, {
@@ -60,34 +41,13 @@ async function api(pathname, body, format = 'json') {
   return { status: res.status, bytes: Buffer.from(await res.arrayBuffer()) };
 }
 
-const example = (name) => fs.readFileSync(path.join(ROOT, 'examples', `${name}.json`), 'utf8');
-
-// Puts a request in the editor as a person would (select all, type), so the page's input
-// handlers run.
+// Puts a request in the editor and tells the page it changed (an input event, as typing does).
 async function setRequest(text) {
   await page.evaluate((t) => {
     const e = document.getElementById('editor');
     e.value = t;
     e.dispatchEvent(new Event('input'));
   }, text);
-}
-
-// Picks an example in the list and waits until the editor holds it.
-async function pickExample(name) {
-  await page.select('#example', name);
-  await page.waitForFunction((n) => {
-    try {
-      return JSON.stringify(JSON.parse(document.getElementById('editor').value)) === n;
-    } catch (_) {
-      return false;
-    }
-  }, {}, JSON.stringify(JSON.parse(example(name))));
-}
-
-async function meshAndWait() {
-  await page.evaluate(() => { window.meshdPage.state.source = null; });
-  await page.click('#mesh');
-  await page.waitForFunction(() => !window.meshdPage.state.busy && window.meshdPage.state.source, { timeout: 120000 });
 }
 
 // Centroid of cell `i` of an API mesh (triangles, then quads).
@@ -106,30 +66,24 @@ async function colourAt(x, y) {
 }
 
 before(async () => {
-  ({ proc: server, origin } = await startServer(['--workers', '2', '--memory-budget-mb', '6000', '--max-points', '8000000']));
-  browser = await puppeteer.launch({
-    executablePath: CHROMIUM,
-    headless: true,
-    args: ['--no-sandbox', '--disable-dev-shm-usage', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-gpu-sandbox'],
+  ({ proc: server, origin } = await startMeshd(['--workers', '2', '--memory-budget-mb', '6000', '--max-points', '8000000']));
+  browser = await launchChromium();
+  page = await openPage(browser, origin, async (p) => {
+    await p.setRequestInterception(true);
+    p.on('request', (r) => {
+      if (r.url().startsWith(origin + '/') || r.url().startsWith('blob:') || r.url().startsWith('data:')) r.continue();
+      else {
+        blocked.push(r.url());
+        r.abort();
+      }
+    });
+    // The browser's own note on every 4xx answer (the problem tests ask for them) is not an
+    // error of the page.
+    p.on('console', (m) => {
+      if (m.type() === 'error' && !/^Failed to load resource: the server responded with a status of 4\d\d/.test(m.text())) consoleErrors.push(m.text());
+    });
+    p.on('pageerror', (e) => consoleErrors.push(String(e)));
   });
-  page = await browser.newPage();
-  await page.setViewport({ width: 1400, height: 860 });
-  await page.setRequestInterception(true);
-  page.on('request', (r) => {
-    if (r.url().startsWith(origin + '/') || r.url().startsWith('blob:') || r.url().startsWith('data:')) r.continue();
-    else {
-      blocked.push(r.url());
-      r.abort();
-    }
-  });
-  // The browser's own note on every 4xx answer (the problem tests ask for them) is not an
-  // error of the page.
-  page.on('console', (m) => {
-    if (m.type() === 'error' && !/^Failed to load resource: the server responded with a status of 4\d\d/.test(m.text())) consoleErrors.push(m.text());
-  });
-  page.on('pageerror', (e) => consoleErrors.push(String(e)));
-  await page.goto(`${origin}/`);
-  await page.waitForFunction(() => window.meshdPage && window.meshdPage.ready);
 });
 
 after(async () => {
@@ -393,7 +347,7 @@ test('colour modes and the keyboard', async () => {
 });
 
 test('a server started with --ui off serves no page, and the API still', async () => {
-  const other = await startServer(['--ui', 'off']);
+  const other = await startMeshd(['--ui', 'off']);
   try {
     assert.equal((await fetch(`${other.origin}/`)).status, 404);
     assert.equal((await fetch(`${other.origin}/ui/app.js`)).status, 404);

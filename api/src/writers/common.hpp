@@ -65,8 +65,6 @@ inline size_t all_points(const Mesh& m) { return m.point_count() + m.edge_nodes.
 inline core::Vec2 any_point(const Mesh& m, size_t id) {
     return id < m.point_count() ? m.point(static_cast<core::VertexId>(id)) : m.edge_nodes[id - m.point_count()];
 }
-// A 6-node triangle in the order VTK, gmsh and CGNS share: corners, then the nodes on
-// (v0, v1), (v1, v2), (v2, v0).
 /// The target size (rho) at every point of all_points(): an edge node takes its edge's ends'
 /// mean.
 inline std::vector<double> point_sizes(const Mesh& m) {
@@ -81,6 +79,8 @@ inline std::vector<double> point_sizes(const Mesh& m) {
     return size;
 }
 
+// A 6-node triangle in the order VTK, gmsh and CGNS share: corners, then the nodes on
+// (v0, v1), (v1, v2), (v2, v0).
 inline std::array<size_t, 6> six_nodes(const Mesh& m, size_t t) {
     const auto& v = m.triangles[t].v;
     const auto& e = m.edge_node[t];
