@@ -3,6 +3,7 @@
 // talks only to the server that served it.
 
 import { MeshView } from './view.js';
+import { fromJson, fromVtk } from './meshdata.js';
 import { place, lineOf } from './jsonpos.js';
 
 // Meshes forecast above this many points go to a job (the server refuses the synchronous
@@ -225,7 +226,7 @@ async function meshSync(body, request) {
   if (res.ok) {
     const answer = await res.json();
     state.abort = null;
-    show(answer, { kind: 'sync', body });
+    show(fromJson(answer.mesh), answer.metrics, { kind: 'sync', body });
     jobStatus(`done in ${Math.round(performance.now() - started)} ms`, 1);
     setBusy(false);
     return true;
@@ -263,10 +264,12 @@ async function meshJob(body) {
     if (job.status === 'queued') jobStatus('queued', 0);
     else if (job.status === 'running') jobStatus(`running: ${job.stage ?? ''} ${Math.round(100 * (job.progress ?? 0))}%`, job.progress ?? 0);
     else if (job.status === 'succeeded') {
+      // A job's mesh is large: binary VTK (no JSON to compress and parse); its metrics are
+      // in the job's status.
       jobStatus('fetching the mesh…', 1);
-      const m = await call('GET', `/v1/jobs/${id}/mesh?sizes=true`);
+      const m = await call('GET', `/v1/jobs/${id}/mesh?format=vtk`);
       if (m.ok) {
-        show(await m.json(), { kind: 'job', id });
+        show(fromVtk(await m.arrayBuffer()), job.metrics, { kind: 'job', id });
         jobStatus(`done (job ${id})`, 1);
       } else showProblem(await problemOf(m));
       break;
@@ -300,15 +303,16 @@ async function cancel() {
 
 // --- results ---------------------------------------------------------------------------
 
-function show(answer, source) {
+// mesh: the page's form (meshdata.js); metrics: the API's.
+function show(mesh, metrics, source) {
   state.source = source;
-  state.metrics = answer.metrics;
-  view.setMesh(answer.mesh);
+  state.metrics = metrics;
+  view.setMesh(mesh);
   $('empty').hidden = true;
-  const m = answer.metrics;
+  const m = metrics;
   $('canvas').setAttribute('aria-label',
     `The mesh: ${m.points} points, ${m.triangles} triangles${m.quads ? `, ${m.quads} quads` : ''}; ` +
-    `boundaries ${Object.keys(answer.mesh.boundaries || {}).join(', ')}`);
+    `boundaries ${mesh.boundaries.map((b) => b.tag).join(', ')}`);
   showLegend();
   showScale();
   showHistogram(m);

@@ -1,7 +1,13 @@
 // The mesh view: WebGL 2, one draw call for all cells (each triangle's three vertices carry
 // its colour value and barycentric coordinates, so the fragment shader draws the edges
 // without a second pass), lines per boundary tag, pan and zoom by a 2x2 transform only:
-// nothing is rebuilt when the view moves, so 10^6 triangles stay interactive.
+// nothing is rebuilt when the view moves.
+//
+// A large mesh (more than `cacheAbove` GPU triangles) is drawn into a texture that covers the
+// canvas and a margin around it; while the view moves, each frame is that picture moved and
+// scaled (one textured quad, whatever the mesh's size), and the cells are drawn again once the
+// view has stood still for `quietMs`. A GPU draws 10^6 triangles in milliseconds, but software
+// WebGL or a weak laptop GPU takes up to seconds: the picture keeps panning and zooming smooth.
 
 const CELL_VS = `#version 300 es
 in vec2 a_pos;
@@ -66,7 +72,28 @@ export const TAG_COLOURS = [
   [0.55, 0.35, 0.0], [0.45, 0.2, 0.8], [0.95, 0.7, 0.0], [0.3, 0.3, 0.3], [0.0, 0.7, 0.8],
 ];
 
+// The cached picture, drawn as one quad: u_rect is its corners in clip coordinates.
+const PICTURE_VS = `#version 300 es
+uniform vec4 u_rect;
+out vec2 v_uv;
+void main() {
+  vec2 corner = vec2(gl_VertexID & 1, gl_VertexID >> 1);
+  v_uv = corner;
+  gl_Position = vec4(mix(u_rect.xy, u_rect.zw, corner), 0.0, 1.0);
+}`;
+
+const PICTURE_FS = `#version 300 es
+precision highp float;
+in vec2 v_uv;
+uniform sampler2D u_picture;
+out vec4 colour;
+void main() { colour = texture(u_picture, v_uv); }`;
+
 const BACKGROUND = [1, 1, 1];
+
+// The cached picture spans this many times the canvas in each direction (a quarter of it as a
+// margin on each side, shown while panning before the cells are drawn again).
+const PICTURE_SPAN = 1.5;
 
 function compile(gl, vs, fs) {
   const prog = gl.createProgram();
@@ -125,6 +152,11 @@ export class MeshView {
     this.gl = gl;
     this.cellProg = compile(gl, CELL_VS, CELL_FS);
     this.lineProg = compile(gl, LINE_VS, LINE_FS);
+    this.pictureProg = compile(gl, PICTURE_VS, PICTURE_FS);
+    this.cacheAbove = 300000;  // GPU triangles
+    this.quietMs = 150;
+    this.cache = { valid: false, texture: null, fbo: null };
+    this.stats = { drawn: 0, moved: 0 };  // cells drawn; frames moved from the cached picture
     this.mode = 'quality';
     this.edges = true;
     this.mesh = null;
@@ -137,14 +169,14 @@ export class MeshView {
 
   // --- data -------------------------------------------------------------------------------
 
-  // mesh: the response's "mesh" (points, triangles, quads, boundaries, sizes).
+  // mesh: the page's form of a mesh (meshdata.js: flat typed arrays).
   setMesh(mesh) {
     const gl = this.gl;
-    const P = mesh.points;
-    const tris = mesh.triangles || [], quads = mesh.quads || [];
+    const P = mesh.points, T = mesh.triangles, Q = mesh.quads;
     // The origin of the GPU's coordinates: the bounding box's centre (float32 keeps digits).
     let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
-    for (const [x, y] of P) {
+    for (let i = 0; i < P.length; i += 2) {
+      const x = P[i], y = P[i + 1];
       if (x < x0) x0 = x; if (x > x1) x1 = x;
       if (y < y0) y0 = y; if (y > y1) y1 = y;
     }
@@ -153,45 +185,48 @@ export class MeshView {
     const [ox, oy] = this.origin;
     // Cells as GPU triangles: a quad is two, with the diagonal hidden from the edge drawing.
     // Their corners (point indices) stay for picking.
-    const nGpu = tris.length + 2 * quads.length;
+    const nGpu = mesh.nTriangles + 2 * mesh.nQuads;
     const pos = new Float32Array(nGpu * 6), bary = new Uint8Array(nGpu * 12);
     this.corners = new Uint32Array(nGpu * 3);
     this.cellOf = new Int32Array(nGpu);  // GPU triangle -> cell (quads after triangles)
     let g = 0;
     const put = (a, b, c, cell, hide) => {
-      const vs = [a, b, c];
+      const C = this.corners;
+      C[3 * g] = a; C[3 * g + 1] = b; C[3 * g + 2] = c;
       for (let k = 0; k < 3; k++) {
-        this.corners[3 * g + k] = vs[k];
-        pos[g * 6 + 2 * k] = P[vs[k]][0] - ox;
-        pos[g * 6 + 2 * k + 1] = P[vs[k]][1] - oy;
+        const v = C[3 * g + k];
+        pos[g * 6 + 2 * k] = P[2 * v] - ox;
+        pos[g * 6 + 2 * k + 1] = P[2 * v + 1] - oy;
         for (let j = 0; j < 3; j++) bary[g * 12 + 4 * k + j] = j === k || j === hide ? 255 : 0;
       }
       this.cellOf[g++] = cell;
     };
-    tris.forEach((t, i) => put(t[0], t[1], t[2], i, -1));
+    for (let i = 0; i < mesh.nTriangles; i++) put(T[3 * i], T[3 * i + 1], T[3 * i + 2], i, -1);
     // A quad [a,b,c,d] as (a,b,c) and (a,c,d); the shared diagonal a-c is opposite b in the
     // first and d in the second, so those coordinates stay at 1 and the diagonal is not drawn.
-    quads.forEach((q, i) => {
-      put(q[0], q[1], q[2], tris.length + i, 1);
-      put(q[0], q[2], q[3], tris.length + i, 2);
-    });
+    for (let i = 0; i < mesh.nQuads; i++) {
+      const a = Q[4 * i], b = Q[4 * i + 1], c = Q[4 * i + 2], d = Q[4 * i + 3];
+      put(a, b, c, mesh.nTriangles + i, 1);
+      put(a, c, d, mesh.nTriangles + i, 2);
+    }
     this.gpuCount = nGpu;
     this.mesh = mesh;
     this.grid = null;
     this.hovered = -1;
+    this.cache.valid = false;
     this.values = this.cellValues();
     this.upload(pos, bary);
     // Boundary lines per tag.
     this.tags = [];
     const lines = [];
-    for (const [tag, edges] of Object.entries(mesh.boundaries || {})) {
-      const arr = new Float32Array(edges.length * 4);
-      edges.forEach((e, i) => {
-        arr[4 * i] = P[e[0]][0] - ox; arr[4 * i + 1] = P[e[0]][1] - oy;
-        arr[4 * i + 2] = P[e[1]][0] - ox; arr[4 * i + 3] = P[e[1]][1] - oy;
-      });
+    for (const { tag, edges } of mesh.boundaries) {
+      const arr = new Float32Array(edges.length * 2);
+      for (let i = 0; i < edges.length; i++) {
+        arr[2 * i] = P[2 * edges[i]] - ox;
+        arr[2 * i + 1] = P[2 * edges[i] + 1] - oy;
+      }
       lines.push(arr);
-      this.tags.push({ tag, edges: edges.length, colour: TAG_COLOURS[this.tags.length % TAG_COLOURS.length] });
+      this.tags.push({ tag, edges: edges.length / 2, colour: TAG_COLOURS[this.tags.length % TAG_COLOURS.length] });
     }
     this.lineBuffers?.forEach((b) => gl.deleteBuffer(b));
     this.lineBuffers = lines.map((arr) => {
@@ -202,6 +237,17 @@ export class MeshView {
     });
     this.lineCounts = lines.map((a) => a.length / 2);
     this.fit();
+  }
+
+  // The corners of cell `cell` (triangles first, then quads) as point indices.
+  cellCorners(cell) {
+    const m = this.mesh;
+    return cell < m.nTriangles ? Array.from(m.triangles.subarray(3 * cell, 3 * cell + 3))
+      : Array.from(m.quads.subarray(4 * (cell - m.nTriangles), 4 * (cell - m.nTriangles) + 4));
+  }
+
+  point(v) {
+    return [this.mesh.points[2 * v], this.mesh.points[2 * v + 1]];
   }
 
   upload(pos, bary) {
@@ -234,28 +280,28 @@ export class MeshView {
   // (mean edge length over the mean target size of its corners), with each GPU triangle's
   // shader value for the current mode.
   cellValues() {
-    const m = this.mesh, P = m.points, S = m.sizes;
-    const tris = m.triangles || [], quads = m.quads || [];
-    const n = tris.length + quads.length;
+    const m = this.mesh, P = m.points, S = m.sizes, T = m.triangles;
+    const n = m.nTriangles + m.nQuads;
     const quality = new Float32Array(n), size = new Float32Array(n);
-    const cellSize = (vs) => {
-      if (!S) return NaN;
+    // Triangles without a temporary per cell (a million of them in a large mesh).
+    const a = [0, 0], b = [0, 0], c = [0, 0];
+    for (let i = 0; i < m.nTriangles; i++) {
+      const u = T[3 * i], v = T[3 * i + 1], w = T[3 * i + 2];
+      a[0] = P[2 * u]; a[1] = P[2 * u + 1]; b[0] = P[2 * v]; b[1] = P[2 * v + 1]; c[0] = P[2 * w]; c[1] = P[2 * w + 1];
+      quality[i] = radiusRatio(a, b, c);
+      size[i] = S ? (Math.hypot(a[0] - b[0], a[1] - b[1]) + Math.hypot(b[0] - c[0], b[1] - c[1]) + Math.hypot(c[0] - a[0], c[1] - a[1])) /
+        (S[u] + S[v] + S[w]) : NaN;
+    }
+    for (let i = m.nTriangles; i < n; i++) {
+      const vs = this.cellCorners(i), ps = vs.map((v) => this.point(v));
+      quality[i] = scaledJacobian(ps);
       let len = 0, rho = 0;
-      for (let k = 0; k < vs.length; k++) {
-        const a = P[vs[k]], b = P[vs[(k + 1) % vs.length]];
-        len += Math.hypot(a[0] - b[0], a[1] - b[1]);
-        rho += S[vs[k]];
+      for (let k = 0; k < 4; k++) {
+        len += Math.hypot(ps[k][0] - ps[(k + 1) % 4][0], ps[k][1] - ps[(k + 1) % 4][1]);
+        rho += S ? S[vs[k]] : NaN;
       }
-      return len / rho;
-    };
-    tris.forEach((t, i) => {
-      quality[i] = radiusRatio(P[t[0]], P[t[1]], P[t[2]]);
-      size[i] = cellSize(t.slice(0, 3));
-    });
-    quads.forEach((q, i) => {
-      quality[tris.length + i] = scaledJacobian(q.map((v) => P[v]));
-      size[tris.length + i] = cellSize(q);
-    });
+      size[i] = len / rho;
+    }
     return { quality, size };
   }
 
@@ -389,7 +435,7 @@ export class MeshView {
     const range = (g) => {
       let a = Infinity, b = Infinity, c = -Infinity, d = -Infinity;
       for (let k = 0; k < 3; k++) {
-        const [x, y] = P[C[3 * g + k]];
+        const x = P[2 * C[3 * g + k]], y = P[2 * C[3 * g + k] + 1];
         a = Math.min(a, x); b = Math.min(b, y); c = Math.max(c, x); d = Math.max(d, y);
       }
       return [cl(Math.floor((a - x0) / w * nx), nx), cl(Math.floor((b - y0) / h * ny), ny),
@@ -423,7 +469,8 @@ export class MeshView {
       const g = items[k];
       let inside = true;
       for (let e = 0; e < 3 && inside; e++) {
-        const [ax, ay] = P[C[3 * g + e]], [bx, by] = P[C[3 * g + (e + 1) % 3]];
+        const a = 2 * C[3 * g + e], b = 2 * C[3 * g + (e + 1) % 3];
+        const ax = P[a], ay = P[a + 1], bx = P[b], by = P[b + 1];
         inside = (bx - ax) * (y - ay) - (by - ay) * (x - ax) >= 0;
       }
       if (inside) return this.cellOf[g];
@@ -445,11 +492,10 @@ export class MeshView {
 
   // What the page shows of one cell.
   describe(cell) {
-    const m = this.mesh, nt = (m.triangles || []).length;
-    const vs = cell < nt ? m.triangles[cell].slice(0, 3) : m.quads[cell - nt];
-    const corners = vs.map((v) => m.points[v]);
+    const nt = this.mesh.nTriangles;
+    const corners = this.cellCorners(cell).map((v) => this.point(v));
     return {
-      cell, kind: vs.length === 3 ? 'triangle' : 'quad', index: cell < nt ? cell : cell - nt,
+      cell, kind: corners.length === 3 ? 'triangle' : 'quad', index: cell < nt ? cell : cell - nt,
       corners, angles: angles(corners),
       quality: this.values.quality[cell], size: this.values.size[cell],
     };
@@ -474,25 +520,114 @@ export class MeshView {
       c.width = Math.round(w * dpr);
       c.height = Math.round(h * dpr);
     }
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.viewport(0, 0, c.width, c.height);
     gl.clearColor(...BACKGROUND, 1);
     gl.clear(gl.COLOR_BUFFER_BIT);
     if (!this.mesh) return;
+    if (this.gpuCount <= this.cacheAbove) {
+      this.drawCells(this.view, w, h);
+    } else {
+      const k = this.cache;
+      const same = k.valid && k.mode === this.mode && k.edges === this.edges && k.cssW === w && k.cssH === h;
+      if (same && (k.view.cx !== this.view.cx || k.view.cy !== this.view.cy || k.view.scale !== this.view.scale)) {
+        // The view moved: the picture, moved; the cells once the view stands still.
+        this.stats.moved++;
+        clearTimeout(this.quiet);
+        this.quiet = setTimeout(() => this.refresh(), this.quietMs);
+      } else if (!same) {
+        this.paint(w, h, dpr);
+      }
+      this.drawPicture(w, h);
+    }
+    this.drawLines(w, h);
+  }
+
+  // Draws the cells again for the current view now (what the quiet time would do; the tests
+  // call it to reach the settled picture without waiting).
+  refresh() {
+    clearTimeout(this.quiet);
+    this.quiet = null;
+    if (!this.mesh || this.gpuCount <= this.cacheAbove) return this.drawNow();
+    const [w, h] = this.size();
+    this.paint(w, h, window.devicePixelRatio || 1);
+    this.drawNow();
+  }
+
+  // The cells under view `view` into the bound framebuffer (viewport set by the caller),
+  // which spans w x h CSS pixels.
+  drawCells(view, w, h) {
+    const gl = this.gl;
     // clip = (p + origin - centre) * 2 scale / size
-    const sx = 2 * this.view.scale / w, sy = 2 * this.view.scale / h;
-    const offset = [(this.origin[0] - this.view.cx) * sx, (this.origin[1] - this.view.cy) * sy];
+    const sx = 2 * view.scale / w, sy = 2 * view.scale / h;
     gl.useProgram(this.cellProg);
     gl.uniform2f(gl.getUniformLocation(this.cellProg, 'u_scale'), sx, sy);
-    gl.uniform2f(gl.getUniformLocation(this.cellProg, 'u_offset'), ...offset);
+    gl.uniform2f(gl.getUniformLocation(this.cellProg, 'u_offset'), (this.origin[0] - view.cx) * sx, (this.origin[1] - view.cy) * sy);
     gl.uniform1i(gl.getUniformLocation(this.cellProg, 'u_mode'), { plain: 0, quality: 1, size: 2 }[this.mode]);
     gl.uniform1f(gl.getUniformLocation(this.cellProg, 'u_edges'), this.edges ? 1 : 0);
     gl.bindVertexArray(this.vao);
     gl.drawArrays(gl.TRIANGLES, 0, this.gpuCount * 3);
     gl.bindVertexArray(null);
+    this.stats.drawn++;
+  }
 
+  // Draws the cells into the cached picture: the canvas's pixels and a margin around them.
+  paint(w, h, dpr) {
+    const gl = this.gl, k = this.cache, c = this.canvas;
+    const max = Math.min(gl.getParameter(gl.MAX_TEXTURE_SIZE), gl.getParameter(gl.MAX_VIEWPORT_DIMS)[0]);
+    // Device pixels: the canvas's plus an even margin, so that a whole-pixel pan samples the
+    // picture at its texel centres (a pan moves it, never blurs it).
+    const span = (n) => Math.min(max, n + 2 * Math.round(n * (PICTURE_SPAN - 1) / 2));
+    const W = span(c.width), H = span(c.height);
+    if (!k.texture || k.W !== W || k.H !== H) {
+      if (k.texture) gl.deleteTexture(k.texture);
+      if (k.fbo) gl.deleteFramebuffer(k.fbo);
+      k.texture = gl.createTexture();
+      gl.bindTexture(gl.TEXTURE_2D, k.texture);
+      gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA8, W, H);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+      k.fbo = gl.createFramebuffer();
+      gl.bindFramebuffer(gl.FRAMEBUFFER, k.fbo);
+      gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, k.texture, 0);
+      k.W = W;
+      k.H = H;
+    }
+    gl.bindFramebuffer(gl.FRAMEBUFFER, k.fbo);
+    gl.viewport(0, 0, W, H);
+    gl.clearColor(...BACKGROUND, 1);
+    gl.clear(gl.COLOR_BUFFER_BIT);
+    // The picture's extent in CSS pixels at the view's scale (its resolution may be capped).
+    const pw = w * W / c.width, ph = h * H / c.height;
+    this.drawCells(this.view, pw, ph);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.viewport(0, 0, c.width, c.height);
+    Object.assign(k, { valid: true, view: { ...this.view }, mode: this.mode, edges: this.edges, cssW: w, cssH: h, pw, ph });
+  }
+
+  // The cached picture where its world rectangle falls in the current view.
+  drawPicture(w, h) {
+    const gl = this.gl, k = this.cache, v = this.view;
+    const hx = k.pw / 2 / k.view.scale, hy = k.ph / 2 / k.view.scale;  // world half extents
+    const clipX = (x) => (x - v.cx) * 2 * v.scale / w, clipY = (y) => (y - v.cy) * 2 * v.scale / h;
+    gl.useProgram(this.pictureProg);
+    gl.uniform4f(gl.getUniformLocation(this.pictureProg, 'u_rect'),
+      clipX(k.view.cx - hx), clipY(k.view.cy - hy), clipX(k.view.cx + hx), clipY(k.view.cy + hy));
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, k.texture);
+    gl.uniform1i(gl.getUniformLocation(this.pictureProg, 'u_picture'), 0);
+    gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4);
+  }
+
+  // Boundary lines per tag and the hovered cell's outline, over the cells.
+  drawLines(w, h) {
+    const gl = this.gl;
+    const sx = 2 * this.view.scale / w, sy = 2 * this.view.scale / h;
     gl.useProgram(this.lineProg);
     gl.uniform2f(gl.getUniformLocation(this.lineProg, 'u_scale'), sx, sy);
-    gl.uniform2f(gl.getUniformLocation(this.lineProg, 'u_offset'), ...offset);
+    gl.uniform2f(gl.getUniformLocation(this.lineProg, 'u_offset'), (this.origin[0] - this.view.cx) * sx, (this.origin[1] - this.view.cy) * sy);
     const loc = gl.getAttribLocation(this.lineProg, 'a_pos');
     const lines = (buffer, count, colour, mode) => {
       gl.bindBuffer(gl.ARRAY_BUFFER, buffer);

@@ -122,8 +122,8 @@ for (const name of Object.keys(OUTSIDE)) {
     // The same request through the API, read here: the page shows that mesh.
     const answer = JSON.parse((await api('/v1/meshes', example(name))).bytes.toString());
     const shown = await page.evaluate(() => ({
-      points: window.meshdPage.view.mesh.points.length, triangles: window.meshdPage.view.mesh.triangles.length,
-      quads: (window.meshdPage.view.mesh.quads || []).length,
+      points: window.meshdPage.view.mesh.nPoints, triangles: window.meshdPage.view.mesh.nTriangles,
+      quads: window.meshdPage.view.mesh.nQuads,
       table: Object.fromEntries([...document.querySelectorAll('#metrics tr')].map((r) => [r.cells[0].textContent, r.cells[1]?.textContent])),
       legend: [...document.querySelectorAll('#legend li')].map((l) => l.dataset.tag),
     }));
@@ -310,6 +310,130 @@ test('each download gives the bytes the API gives (a job)', async () => {
   const source = await page.evaluate(() => window.meshdPage.state.source);
   assert.equal(source.kind, 'job');
   await downloads((format) => api(`/v1/jobs/${source.id}/mesh`, undefined, format));
+});
+
+// The page's mesh as plain arrays, to compare with the API's JSON.
+const pageMesh = () => page.evaluate(() => {
+  const m = window.meshdPage.view.mesh;
+  const pairs = (a, n) => Array.from({ length: a.length / n }, (_, i) => Array.from(a.subarray(n * i, n * i + n)));
+  return {
+    points: pairs(m.points, 2), triangles: pairs(m.triangles, 3), quads: pairs(m.quads, 4),
+    boundaries: Object.fromEntries(m.boundaries.map((b) => [b.tag, pairs(b.edges, 2)])),
+    sizes: m.sizes && Array.from(m.sizes),
+  };
+});
+
+for (const name of ['channel_wake', 'high_lift_layers']) {
+  test(`a job's mesh comes to the page as binary VTK: the same mesh as the API's JSON (${name})`, async () => {
+    await setRequest(example(name));
+    await page.click('#as-job');
+    const vtk = [];
+    const seen = (r) => { if (/\/v1\/jobs\/[^/]+\/mesh\?format=vtk$/.test(r.url())) vtk.push(r.url()); };
+    page.on('request', seen);
+    try {
+      await meshAndWait();
+    } finally {
+      page.off('request', seen);
+      await page.click('#as-job');
+    }
+    const source = await page.evaluate(() => window.meshdPage.state.source);
+    assert.equal(source.kind, 'job');
+    assert.equal(vtk.length, 1);
+    const answer = JSON.parse((await api(`/v1/jobs/${source.id}/mesh?sizes=true`, undefined)).bytes.toString());
+    const got = await pageMesh();
+    // Coordinates are doubles in both: equal to the last bit.
+    assert.deepEqual(got.points, answer.mesh.points);
+    assert.deepEqual(got.triangles, answer.mesh.triangles);
+    assert.deepEqual(got.quads, answer.mesh.quads || []);
+    assert.deepEqual(got.boundaries, answer.mesh.boundaries);
+    assert.deepEqual(got.sizes, answer.mesh.sizes);
+    if (name === 'high_lift_layers') assert.ok(got.quads.length > 0);
+    // The metrics table is the job's.
+    const status = JSON.parse((await api(`/v1/jobs/${source.id}`)).bytes.toString());
+    const table = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('#metrics tr')].map((r) => [r.cells[0].textContent, r.cells[1]?.textContent])));
+    assert.equal(table.Triangles, status.metrics.triangles.toLocaleString('en'));
+    assert.equal(table.Points, status.metrics.points.toLocaleString('en'));
+  });
+}
+
+test('a large mesh moves as a picture while the view moves, and is drawn again once it stands still', async () => {
+  await pickExample('naca0012');
+  await meshAndWait();
+  // Every mesh counts as large here; a pan of whole pixels inside the picture's margin.
+  const DX = 40, DY = 24;
+  const r = await page.evaluate((DX, DY) => {
+    const v = window.meshdPage.view, gl = v.gl, c = v.canvas;
+    const read = () => {
+      const a = new Uint8Array(c.width * c.height * 4);
+      gl.readPixels(0, 0, c.width, c.height, gl.RGBA, gl.UNSIGNED_BYTE, a);
+      return a;
+    };
+    const dpr = c.width / v.size()[0], dx = Math.round(DX * dpr), dy = Math.round(DY * dpr);
+    // Pixels of `b` equal to those of `a` moved by (dx, -dy) (GL rows go up), over the overlap;
+    // "equal" within 16 levels: software WebGL's interpolation moves a drawn edge's shading by
+    // a few levels when the whole drawing moves by a pixel (a lost or moved cell costs far more).
+    const same = (a, b) => {
+      let equal = 0, all = 0;
+      for (let y = 0; y < c.height - dy; y++) {
+        for (let x = 0; x < c.width - dx; x++) {
+          const i = 4 * ((y + dy) * c.width + x), j = 4 * (y * c.width + x + dx);
+          let ok = true;
+          for (let k = 0; k < 3; k++) ok = ok && Math.abs(a[i + k] - b[j + k]) <= 16;
+          equal += ok;
+          all++;
+        }
+      }
+      return equal / all;
+    };
+    const white = (a, x0, x1) => {
+      let n = 0;
+      for (let y = 0; y < c.height; y++) for (let x = x0; x < x1; x++) n += a[4 * (y * c.width + x)] === 255 && a[4 * (y * c.width + x) + 1] === 255 && a[4 * (y * c.width + x) + 2] === 255;
+      return n;
+    };
+    const keep = v.cacheAbove;
+    v.cacheAbove = 0;
+    try {
+      // Near the wing, where cells cover the whole canvas.
+      v.show(-0.2, -0.3, 1.2, 0.3);
+      v.refresh();
+      const A = read(), s0 = { ...v.stats };
+      v.panBy(DX, DY);
+      v.drawNow();
+      const B = read(), s1 = { ...v.stats };
+      v.refresh();
+      const C = read(), s2 = { ...v.stats };
+      return {
+        moved: s1.moved - s0.moved, drawnWhileMoving: s1.drawn - s0.drawn, drawnAfter: s2.drawn - s1.drawn,
+        pictureMoved: same(A, B), settledLikeMoved: same(A, C),
+        revealedWhite: white(B, 0, dx), revealed: dx * c.height,
+        fullWhite: white(C, 0, dx),
+      };
+    } finally {
+      v.cacheAbove = keep;
+    }
+  }, DX, DY);
+  // The move drew no cells: the picture, moved by exactly the pan.
+  assert.equal(r.moved, 1);
+  assert.equal(r.drawnWhileMoving, 0);
+  assert.ok(r.pictureMoved > 0.995, `moved picture: ${r.pictureMoved} of the pixels agree`);
+  // The strip the pan uncovered came from the picture's margin: what a full drawing shows there.
+  assert.equal(r.revealedWhite, r.fullWhite, `${r.revealedWhite} white pixels in the uncovered strip of ${r.revealed}`);
+  // Drawn again, the cells agree with the moved picture.
+  assert.equal(r.drawnAfter, 1);
+  assert.ok(r.settledLikeMoved > 0.995, `settled: ${r.settledLikeMoved}`);
+  // Left alone after a move, the view draws the cells again by itself.
+  const [before, keep] = await page.evaluate(() => {
+    const v = window.meshdPage.view, keep = v.cacheAbove;
+    v.cacheAbove = 0;
+    v.panBy(5, 5);
+    v.drawNow();
+    return [v.stats.drawn, keep];
+  });
+  try {
+    await page.waitForFunction((n) => window.meshdPage.view.stats.drawn > n, { timeout: 30000, polling: 20 }, before);
+  } finally {
+    await page.evaluate((k) => { window.meshdPage.view.cacheAbove = k; }, keep);
+  }
 });
 
 test('colour modes and the keyboard', async () => {
