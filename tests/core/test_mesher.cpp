@@ -261,9 +261,63 @@ TEST(Mesher, MinAngleRefinementGuaranteesTheBoundAwayFromInputCorners) {
     }
 }
 
+// Curves far coarser than the interior field beside them leave slivers no interior point
+// avoids; the pipeline spaces them again (pipeline/agreement.hpp). Coarse circles (0.6, 0.2)
+// around a constant interior of 0.04: every segment ends at most 1.5 times 0.04 long, the
+// smallest angle reaches 30 degrees, and the admission forecast counts the extra points.
+TEST(Mesher, CurvesFarCoarserThanTheInteriorAreSpacedAgainToAgreeWithIt) {
+    const Domain dom = build_domain(annulus().domain);  // circles r = 1 and r = 0.3 about 0
+    DensitySpec d;
+    d.curves = {{"outer", 0.6}, {"inner", 0.2}};
+    d.interior = InteriorMode::Expression;
+    d.interior_expression = "0.04";
+    auto longest = [](const Mesh& m) {
+        double l = 0.0;
+        for (const MeshEdge& e : m.edges) l = std::max(l, distance(m.point(e.a), m.point(e.b)));
+        return l;
+    };
+    MeshOptions off;
+    off.curve_agreement = false;
+    const MeshResult own = generate_mesh(dom, d, off);
+    EXPECT_GT(longest(own.mesh), 0.5);  // the outer circle's own 0.6 (a test that can fail)
+    EXPECT_LT(own.quality.angle_min, 30.0);
+    EXPECT_EQ(own.stats.agreement.rounds, 0);
+
+    const MeshResult r = generate_mesh(dom, d);
+    expect_valid(r.mesh, "annulus, curves agreeing");
+    EXPECT_GT(r.stats.agreement.rounds, 0);
+    EXPECT_LE(longest(r.mesh), 1.5 * 0.04);
+    EXPECT_GE(r.quality.angle_min, 30.0);
+    EXPECT_GE(r.quality.size_ratio_within_sqrt2, own.quality.size_ratio_within_sqrt2);
+    const double points = static_cast<double>(r.mesh.point_count());
+    EXPECT_NEAR(r.stats.forecast_points / points, 1.0, 0.1);
+    std::printf("[ annulus 0.6/0.2 around 0.04 ] %zu points, %d rounds, min angle %.1f (own spacing: %zu points, %.1f)\n",
+                r.mesh.point_count(), r.stats.agreement.rounds, r.quality.angle_min, own.mesh.point_count(),
+                own.quality.angle_min);
+}
+
+// The paper's eq. 6.1 inside a far field of 0.4 r + 0.2 (segments of 4 at r = 10) around a
+// wing of small segments: the interior beside the far field takes the wing's sizes, and the far
+// field is spaced again to match. The smallest angle rises, the forecast follows the mesh.
+TEST(Mesher, AFarFieldCoarserThanEq61BesideItIsSpacedAgain) {
+    const Case c = naca("0012");
+    const Domain dom = build_domain(c.domain);
+    MeshOptions off;
+    off.curve_agreement = false;
+    const MeshResult own = generate_mesh(dom, c.density, off);
+    const MeshResult r = generate_mesh(dom, c.density);
+    expect_valid(r.mesh, "eq. 6.1, curves agreeing");
+    EXPECT_GT(r.stats.agreement.rounds, 0);
+    EXPECT_GT(r.quality.angle_min, own.quality.angle_min + 5.0);
+    EXPECT_GT(r.quality.size_ratio_within_sqrt2, own.quality.size_ratio_within_sqrt2);
+    EXPECT_NEAR(r.stats.forecast_points / static_cast<double>(r.mesh.point_count()), 1.0, 0.1);
+    EXPECT_NEAR(own.stats.forecast_points / static_cast<double>(own.mesh.point_count()), 1.0, 0.1);
+}
+
 // Refinement splits boundary segments whose diametral circle holds a circumcentre; on a
 // curved wall the new point must lie on the curve, not on the chord (the chord of a coarse
-// arc is far inside the circle). Coarse arcs around a fine interior force such splits.
+// arc is far inside the circle). Coarse arcs around a fine interior force such splits (with
+// the curves left at their own density: the pipeline would otherwise space them again).
 TEST(Mesher, MinAngleRefinementPutsNewBoundaryPointsOnTheirCurves) {
     const Domain dom = build_domain(annulus().domain);  // circles r = 1 and r = 0.3 about 0
     DensitySpec d;
@@ -271,6 +325,7 @@ TEST(Mesher, MinAngleRefinementPutsNewBoundaryPointsOnTheirCurves) {
     d.interior = InteriorMode::Expression;
     d.interior_expression = "0.04";
     MeshOptions o;
+    o.curve_agreement = false;
     const MeshResult plain = generate_mesh(dom, d, o);
     o.min_angle_deg = 30.0;
     const MeshResult r = generate_mesh(dom, d, o);

@@ -129,8 +129,10 @@ double SizeField::eval(const Source& s, Vec2 p) const {
 }
 
 double SizeField::on_curve(CurveId c, Vec2 p) const {
-    const double h = eval(sources_[*curve_source_[c]], p);
-    return graded_ ? std::fmax(std::fmin(h, (*graded_)(p)), min_) : h;
+    double h = eval(sources_[*curve_source_[c]], p);
+    if (graded_) h = std::fmax(std::fmin(h, (*graded_)(p)), min_);
+    if (curve_cap_) h = std::fmax(std::fmin(h, (*curve_cap_)(p)), min_);
+    return h;
 }
 
 double SizeField::interior(Vec2 p) const {
@@ -147,6 +149,10 @@ double SizeField::interior(Vec2 p) const {
 void SizeField::set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes) {
     MESHD_INTERNAL_CHECK(gradation_.has_value(), "gradation sources without a gradation");
     graded_ = std::make_unique<GradationField>(std::move(points), std::move(sizes), *gradation_);
+}
+
+void SizeField::set_curve_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio) {
+    curve_cap_ = points.empty() ? nullptr : std::make_unique<GradationField>(std::move(points), std::move(sizes), ratio);
 }
 
 void SizeField::set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths, double tolerance) {

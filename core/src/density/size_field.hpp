@@ -41,6 +41,10 @@ public:
     void set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes);
     bool graded() const { return graded_ != nullptr; }
 
+    /// Caps rho on the curves (not inside) at min_i (sizes_i + (ratio - 1) |p - points_i|)
+    /// (pipeline/agreement.hpp: curves made to agree with the interior field beside them).
+    void set_curve_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio);
+
     double min_size() const { return min_; }
     double max_size() const { return max_; }
     std::optional<double> gradation() const { return gradation_; }
@@ -59,6 +63,7 @@ private:
     bool interpolate_ = false;
     std::unique_ptr<InverseDistanceField> idw_;
     std::unique_ptr<GradationField> graded_;
+    std::unique_ptr<GradationField> curve_cap_;
     double min_ = 0.0, max_ = 0.0;
     std::optional<double> gradation_;
 };

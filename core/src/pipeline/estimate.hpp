@@ -24,6 +24,9 @@ inline constexpr double kPointsPerArea = 0.86 * 2.0 / 1.7320508075688772;
 struct ForecastBudget {
     size_t boundary_samples = size_t{1} << 13;
     size_t interior_samples = size_t{1} << 14;
+    /// Forecast the curves spaced again to agree with the interior field, as the mesh will
+    /// be (MeshOptions::curve_agreement; pipeline/agreement.hpp).
+    bool curve_agreement = true;
 };
 struct PointForecast {
     double boundary = 0.0, interior = 0.0;

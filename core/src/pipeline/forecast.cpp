@@ -25,7 +25,9 @@
 
 #include "geometry/curve.hpp"
 #include "kernel/predicates.hpp"
+#include "density/gradation.hpp"
 #include "meshd/core/errors.hpp"
+#include "pipeline/agreement.hpp"
 #include "pipeline/estimate.hpp"
 
 namespace meshd::core {
@@ -311,6 +313,49 @@ void set_interpolation_sources(SizeField& rho, const Domain& domain, std::vector
     rho.set_boundary_segments(std::move(starts), std::move(lengths), 1e-2);
 }
 
+// The curves' intervals capped as agree_with_interior caps the curves (agreement.hpp): the
+// field probed half a local size off each interval (on both sides: the forecast does not
+// know which side is the domain's, and takes the larger value), caps where the interval's size is
+// more than kAgreementRatio times it. Returns the boundary count after the caps.
+double agree_intervals(const Domain& domain, SizeField& rho, std::vector<Interval>& intervals, double boundary,
+                       Poll& poll) {
+    auto field_at = [&](Vec2 p) {
+        try {
+            return rho.interior(p);
+        } catch (const GeometryError&) {
+            return static_cast<double>(NAN);
+        }
+    };
+    std::vector<Vec2> caps;
+    std::vector<double> sizes;
+    for (int round = 0; round < kAgreementRounds; ++round) {
+        const size_t before = caps.size();
+        for (const Interval& x : intervals) {
+            poll();
+            const Curve& g = *domain.curves()[x.curve].geometry;
+            const Vec2 t = g.derivative(0.5 * (x.ta + x.tb));
+            const double lt = norm(t);
+            if (!(lt > 0.0)) continue;
+            const Vec2 off = (0.5 * x.size / lt) * perp(t);
+            const double f = std::fmax(field_at(x.at + off), field_at(x.at - off));
+            if (!(x.size > kAgreementRatio * f)) continue;
+            caps.push_back(x.at);
+            sizes.push_back(f);
+        }
+        if (caps.size() == before) break;
+        const GradationField cap(caps, sizes, kAgreementCapRatio);
+        boundary = 0.0;
+        for (Interval& x : intervals) {
+            const double h = std::fmax(std::fmin(x.size, cap(x.at)), rho.min_size());
+            x.count *= x.size / h;
+            x.size = h;
+            boundary += x.count;
+        }
+        if (rho.interpolates()) set_interpolation_sources(rho, domain, intervals, boundary);
+    }
+    return boundary;
+}
+
 }  // namespace
 
 PointForecast forecast_points(const Domain& domain, const DensitySpec& density, const ForecastBudget& budget,
@@ -321,6 +366,7 @@ PointForecast forecast_points(const Domain& domain, const DensitySpec& density, 
     std::vector<Interval> intervals;
     f.boundary = forecast_boundary(domain, rho, budget.boundary_samples, poll, intervals, f.boundary_samples);
     if (rho.interpolates()) set_interpolation_sources(rho, domain, intervals, f.boundary);
+    if (budget.curve_agreement) f.boundary = agree_intervals(domain, rho, intervals, f.boundary, poll);
     f.interior = forecast_interior(domain, rho, budget.interior_samples, poll, f.interior_samples);
     return f;
 }

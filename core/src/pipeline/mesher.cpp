@@ -17,6 +17,7 @@
 #include "kernel/predicates.hpp"
 #include "kernel/spatial_order.hpp"
 #include "meshd/core/errors.hpp"
+#include "pipeline/agreement.hpp"
 #include "pipeline/estimate.hpp"
 #include "triangulation/triangle_soup.hpp"
 #include "triangulation/triangulation.hpp"
@@ -144,7 +145,9 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     // Admission: a mesh forecast above the limit is refused before any work that grows with it.
     auto t0 = Clock::now();
     {
-        const PointForecast forecast = forecast_points(domain, density, {}, observer);
+        ForecastBudget budget;
+        budget.curve_agreement = options.curve_agreement;
+        const PointForecast forecast = forecast_points(domain, density, budget, observer);
         r.stats.forecast_points = forecast.total();
         if (forecast.total() > static_cast<double>(options.max_points))
             refuse_too_many(forecast.total(), options.max_points);
@@ -166,6 +169,11 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         d = discretise_boundary(domain, rho, bopt, observer);
         if (rho.interpolates()) set_interpolation_sources(rho, d);
         walls = triangulate_boundary(d);
+    }
+    // Curves far coarser than the interior field beside them: spaced again to agree with it.
+    if (options.curve_agreement) {
+        r.stats.agreement = agree_with_interior(domain, rho, bopt, d, observer);
+        if (r.stats.agreement.rounds > 0) walls = triangulate_boundary(d);
     }
     if (asked.max_points) {
         // Refuse before the interior work when the mesh would clearly be too large.

@@ -90,6 +90,10 @@ struct MeshOptions {
     /// method. The request layer accepts up to 34 (Ruppert-style refinement is proven to end
     /// up to about 20.7 degrees and in practice ends well beyond 30).
     double min_angle_deg = 0.0;
+    /// Curves spaced far more coarsely than the interior field beside them are spaced again
+    /// to agree with it (pipeline/agreement.hpp). Off: the curves keep their own density
+    /// (the paper's placement, slivers included), what the tests of min_angle_deg start from.
+    bool curve_agreement = true;
     /// 1: straight 3-node triangles; 2: 6-node triangles whose edge nodes on the curves lie
     /// on the curves (Mesh::edge_nodes).
     int order = 1;
@@ -114,9 +118,16 @@ struct TriangulationStats {
     std::uint64_t duplicates = 0;
 };
 
+/// The curves spaced again to agree with the interior field (MeshOptions::curve_agreement).
+struct AgreementStats {
+    int rounds = 0;       ///< placements of the curve points after the first
+    size_t probes = 0;    ///< samples of the interior field that cap the curves
+};
+
 struct MeshStats {
     /// Points forecast from the domain and density before any work (the admission check).
     double forecast_points = 0.0;
+    AgreementStats agreement;
     InteriorStats interior;
     TriangulationStats triangulation;
     std::uint64_t smoothing_moves = 0, smoothing_flips = 0;

@@ -1,0 +1,34 @@
+#pragma once
+// Curves spaced far more coarsely than the interior field beside them: a far field's long
+// segments next to the small sizes eq. 6.1 spreads from an airfoil's many short ones, or a
+// coarse curve density under a fine interior expression. No placement of interior points next
+// to such a segment gives fair angles (the paper's Fig. 9 had 11 degrees at its far field),
+// so the pipeline makes the two agree before the interior: it caps rho on the curves at the
+// interior field found just inside their segments and places the curve points again.
+
+#include "boundary/boundary.hpp"
+#include "density/size_field.hpp"
+#include "meshd/core/mesher.hpp"
+#include "meshd/core/observer.hpp"
+
+namespace meshd::core {
+
+/// A boundary segment at most this many times the interior field beside it is left alone (a
+/// smooth field differs by less over half a segment; Lo's spacing puts segments within a few
+/// percent of rho).
+inline constexpr double kAgreementRatio = 1.5;
+/// The caps grow by at most this ratio per element away from a probe (gradation cones).
+inline constexpr double kAgreementCapRatio = 1.5;
+/// Rounds of probing and placing the curve points again, at most.
+inline constexpr int kAgreementRounds = 4;
+
+/// Probes the interior field just inside every segment of `d` (on the domain's side of loop
+/// segments, on both sides of embedded ones); where a segment is longer than kAgreementRatio
+/// times the field there, caps rho on the curves at that field (SizeField::set_curve_cap,
+/// cones of kAgreementCapRatio about the probes), places the curve points again (and the eq. 6.1
+/// sources with them) and repeats, a few rounds at most. Throws what discretise_boundary
+/// throws (too many points, Cancelled).
+AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const BoundaryOptions& options,
+                                   Discretisation& d, Observer* observer = nullptr);
+
+}  // namespace meshd::core
