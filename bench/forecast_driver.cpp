@@ -16,6 +16,7 @@
 #include "meshd/core/domain.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/mesher.hpp"
+#include "pipeline/agreement.hpp"
 #include "pipeline/estimate.hpp"
 
 using namespace meshd;
@@ -60,8 +61,9 @@ int main(int argc, char** argv) {
         }
         try {
             core::SizeField rho(req.density, dom);
-            const core::Discretisation d = core::discretise_boundary(dom, rho);
+            core::Discretisation d = core::discretise_boundary(dom, rho);
             if (rho.interpolates()) core::set_interpolation_sources(rho, d);
+            core::agree_with_interior(dom, rho, {}, d);  // as the pipeline does
             const double after = core::estimate_point_count(d, core::triangulate_boundary(d), rho);
             const core::MeshResult r = core::generate_mesh(dom, req.density, req.options);
             const double n = static_cast<double>(r.mesh.point_count());
