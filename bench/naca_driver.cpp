@@ -1,7 +1,7 @@
 // meshd on the benchmark case of the Core II issue, one size per process (so that the peak
 // memory is this case's): NACA 0012 (chord 1, leading edge at the origin) in a circular far
 // field of radius 20 about (0.5, 0), the paper's Fig. 10 density times s.
-//   meshd_naca_bench S [delaunay|advancing-front] [--repeat N]  -> one JSON line (the run
+//   meshd_naca_bench S [delaunay|advancing-front] [--repeat N] [--own-spacing] -> one JSON line (the run
 //                                                    with the shortest pipeline of N)
 //   meshd_naca_bench --random N                       -> bare triangulation of N random points
 // Used by bench/compare/run.sh, which puts gmsh and CGAL beside it. "ms" is the pipeline from
@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
     for (int i = 2; i < argc; ++i) {
         if (std::strcmp(argv[i], "advancing-front") == 0) opt.triangulator = Triangulator::AdvancingFront;
         if (std::strcmp(argv[i], "--repeat") == 0 && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
+        if (std::strcmp(argv[i], "--own-spacing") == 0) opt.curve_agreement = false;  // the paper's placement
     }
     // With --repeat, the run with the shortest pipeline is reported (the machine's noise only
     // adds time).
@@ -76,13 +77,15 @@ int main(int argc, char** argv) {
                 "\"boundary_ms\":%.1f,\"interior_ms\":%.1f,\"triangulation_ms\":%.1f,\"smoothing_ms\":%.1f,\"ms\":%.1f,"
                 "\"with_figures_ms\":%.1f,"
                 "\"peak_mb\":%.1f,\"quality_mean\":%.4f,\"quality_min\":%.4f,\"angle_min\":%.2f,\"within_sqrt2\":%.4f,"
-                "\"candidates\":%llu,\"rejected_near\":%llu,\"rejected_crossing\":%llu,\"rejected_outside\":%llu}\n",
+                "\"candidates\":%llu,\"rejected_near\":%llu,\"rejected_crossing\":%llu,\"rejected_outside\":%llu,"
+                "\"agreement_rounds\":%d,\"agreement_probes\":%zu}\n",
                 s, opt.triangulator == Triangulator::Delaunay ? "delaunay" : "advancing-front", q.points, q.triangles,
                 t.boundary_ms, t.interior_ms, t.triangulation_ms, t.smoothing_ms,
                 pipeline(t), t.total_ms, peak_mb(), q.quality_mean,
                 q.quality_min, q.angle_min, q.size_ratio_within_sqrt2, static_cast<unsigned long long>(r.stats.interior.candidates),
                 static_cast<unsigned long long>(r.stats.interior.rejected_near),
                 static_cast<unsigned long long>(r.stats.interior.rejected_crossing),
-                static_cast<unsigned long long>(r.stats.interior.rejected_outside));
+                static_cast<unsigned long long>(r.stats.interior.rejected_outside), r.stats.agreement.rounds,
+                r.stats.agreement.probes);
     return 0;
 }

@@ -27,8 +27,8 @@ GradationField::GradationField(std::vector<Vec2> sources, std::vector<double> si
     }
 }
 
-double GradationField::operator()(Vec2 x) const {
-    double best = HUGE_VAL;
+double GradationField::capped(Vec2 x, double upper) const {
+    double best = upper;
     detail::depth_first(nodes_, [&](const Node& n) {
         const double dx = std::fmax(0.0, std::fmax(n.box.lo.x - x.x, x.x - n.box.hi.x));
         const double dy = std::fmax(0.0, std::fmax(n.box.lo.y - x.y, x.y - n.box.hi.y));

@@ -10,6 +10,7 @@
 /// smallest h_i, pruned by h_min + (g - 1) * distance to the node's box: O(log n) on graded
 /// fields.
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -21,7 +22,10 @@ class GradationField {
 public:
     GradationField(std::vector<Vec2> sources, std::vector<double> sizes, double ratio);
     /// min_i (h_i + (g - 1) |x - s_i|).
-    double operator()(Vec2 x) const;
+    double operator()(Vec2 x) const { return capped(x, HUGE_VAL); }
+    /// min(upper, min_i (h_i + (g - 1) |x - s_i|)): only the sources whose cones come below
+    /// `upper` at x are looked at, so a field already below the envelope costs little.
+    double capped(Vec2 x, double upper) const;
 
 private:
     struct Node {

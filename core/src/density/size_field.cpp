@@ -131,7 +131,7 @@ double SizeField::eval(const Source& s, Vec2 p) const {
 double SizeField::on_curve(CurveId c, Vec2 p) const {
     double h = eval(sources_[*curve_source_[c]], p);
     if (graded_) h = std::fmax(std::fmin(h, (*graded_)(p)), min_);
-    if (curve_cap_) h = std::fmax(std::fmin(h, (*curve_cap_)(p)), min_);
+    if (curve_cap_) h = std::fmax(curve_cap_->capped(p, h), min_);
     return h;
 }
 
@@ -143,7 +143,13 @@ double SizeField::interior(Vec2 p) const {
     } else {
         h = eval(sources_[*interior_source_], p);
     }
-    return graded_ ? std::fmax(std::fmin(h, (*graded_)(p)), min_) : h;
+    if (graded_) h = std::fmax(std::fmin(h, (*graded_)(p)), min_);
+    if (interior_cap_) h = std::fmax(interior_cap_->capped(p, h), min_);
+    return h;
+}
+
+void SizeField::set_interior_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio) {
+    interior_cap_ = points.empty() ? nullptr : std::make_unique<GradationField>(std::move(points), std::move(sizes), ratio);
 }
 
 void SizeField::set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes) {

@@ -44,6 +44,8 @@ public:
     /// Caps rho on the curves (not inside) at min_i (sizes_i + (ratio - 1) |p - points_i|)
     /// (pipeline/agreement.hpp: curves made to agree with the interior field beside them).
     void set_curve_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio);
+    /// Caps rho inside (not on the curves) the same way.
+    void set_interior_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio);
 
     double min_size() const { return min_; }
     double max_size() const { return max_; }
@@ -64,6 +66,7 @@ private:
     std::unique_ptr<InverseDistanceField> idw_;
     std::unique_ptr<GradationField> graded_;
     std::unique_ptr<GradationField> curve_cap_;
+    std::unique_ptr<GradationField> interior_cap_;
     double min_ = 0.0, max_ = 0.0;
     std::optional<double> gradation_;
 };

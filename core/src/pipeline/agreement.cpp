@@ -25,15 +25,35 @@ double field_at(const SizeField& rho, Vec2 p) {
     }
 }
 
+// The interior cap: the fine segments found so far and, under eq. 6.1, every point of the
+// boundary at the size it was placed for. eq. 6.1 averages segment lengths with weights 1/d,
+// so next to any curve whose spacing grows along it (an airfoil's, tenfold from the leading
+// edge to the chord's middle) it is coarser than the curve by a little or a lot; capping it at
+// the curve's own sizes everywhere costs a query per evaluation of a field that is a treecode
+// query already. An expression is the user's field: only its disagreements are capped.
+void set_interior_cap(SizeField& rho, const Discretisation& d, const std::vector<Vec2>& fine,
+                      const std::vector<double>& fine_sizes) {
+    std::vector<Vec2> points = fine;
+    std::vector<double> sizes = fine_sizes;
+    if (rho.interpolates()) {
+        for (VertexId v = 0; v < d.size(); ++v) {
+            points.push_back(d.point(v));
+            sizes.push_back(d.rho[v]);
+        }
+    }
+    rho.set_interior_cap(std::move(points), std::move(sizes), kAgreementCapRatio);
+}
+
 }  // namespace
 
 AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const BoundaryOptions& options,
                                    Discretisation& d, Observer* observer) {
     AgreementStats stats;
-    std::vector<Vec2> caps;
-    std::vector<double> sizes;
+    std::vector<Vec2> caps, fine;
+    std::vector<double> cap_sizes, fine_sizes;
+    set_interior_cap(rho, d, fine, fine_sizes);
     for (int round = 0; round < kAgreementRounds; ++round) {
-        const size_t before = caps.size();
+        const size_t caps_before = caps.size(), fine_before = fine.size();
         for (size_t i = 0; i < d.segments.size(); ++i) {
             const BoundarySegment& s = d.segments[i];
             const Vec2 a = d.point(s.a), b = d.point(s.b);
@@ -49,23 +69,33 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
                 return f;
             };
             const double f = probe(0.5 * (a + b));
+            if (f > kAgreementRatio * l) {
+                // The field too coarse beside a fine segment: capped at its length there.
+                fine.insert(fine.end(), {a, b});
+                fine_sizes.insert(fine_sizes.end(), {l, l});
+                continue;
+            }
             if (!(l > kAgreementRatio * f)) continue;  // agrees (or no field there)
+            // The segment too coarse for the field: the curve capped at the field there.
             const int k = static_cast<int>(std::fmin(kMaxProbesPerSegment, std::ceil(l / f)));
             for (int j = 0; j < k; ++j) {
                 const Vec2 at = a + ((j + 0.5) / k) * (b - a);
                 const double fj = probe(at);
                 if (!(fj > 0.0)) continue;
                 caps.push_back(at);
-                sizes.push_back(fj);
+                cap_sizes.push_back(fj);
             }
         }
-        if (caps.size() == before) break;
+        if (caps.size() == caps_before && fine.size() == fine_before) break;
         if (observer && observer->should_stop()) throw Cancelled();
-        stats.probes = caps.size();
         ++stats.rounds;
-        rho.set_curve_cap(caps, sizes, kAgreementCapRatio);
-        d = discretise_boundary(domain, rho, options, observer);
-        if (rho.interpolates()) set_interpolation_sources(rho, d);
+        stats.probes = caps.size() + fine.size();
+        if (caps.size() > caps_before) {
+            rho.set_curve_cap(caps, cap_sizes, kAgreementCapRatio);
+            d = discretise_boundary(domain, rho, options, observer);
+            if (rho.interpolates()) set_interpolation_sources(rho, d);
+        }
+        set_interior_cap(rho, d, fine, fine_sizes);
     }
     return stats;
 }

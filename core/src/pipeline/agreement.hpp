@@ -22,13 +22,20 @@ inline constexpr double kAgreementCapRatio = 1.5;
 /// Rounds of probing and placing the curve points again, at most.
 inline constexpr int kAgreementRounds = 4;
 
-/// Probes the interior field just inside every segment of `d` (on the domain's side of loop
-/// segments, on both sides of embedded ones); where a segment is longer than kAgreementRatio
-/// times the field there, caps rho on the curves at that field (SizeField::set_curve_cap,
-/// cones of kAgreementCapRatio about the probes), places the curve points again (and the eq. 6.1
-/// sources with them) and repeats, a few rounds at most. Throws what discretise_boundary
-/// throws (too many points, Cancelled).
+/// Probes the interior field just inside every segment of `d` (half a segment off its middle,
+/// on the domain's side of loop segments, on both sides of embedded ones). Where a segment is
+/// longer than kAgreementRatio times the field there, caps rho on the curves at that field
+/// (SizeField::set_curve_cap) and places the curve points again (and the eq. 6.1 sources with
+/// them). Where the field is more than kAgreementRatio times the segment (a curve spaced
+/// finely among coarser ones: an airfoil's leading edge under eq. 6.1, which averages in the
+/// longer segments further along; a blunt trailing edge's short base under any field), caps
+/// the interior field at the segment's length there (SizeField::set_interior_cap). Both caps
+/// are cones growing by kAgreementCapRatio per element; rounds repeat while either grows, a
+/// few at most, since each changes what the other sees. Sources are only made where the two
+/// disagree, so a mesh whose curves and field agree pays one probe per segment. Throws what
+/// discretise_boundary throws (too many points, Cancelled).
 AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const BoundaryOptions& options,
                                    Discretisation& d, Observer* observer = nullptr);
+
 
 }  // namespace meshd::core
