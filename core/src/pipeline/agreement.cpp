@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "meshd/core/errors.hpp"
+#include "pipeline/estimate.hpp"
 
 namespace meshd::core {
 
@@ -85,6 +86,10 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
                 caps.push_back(at);
                 cap_sizes.push_back(fj);
             }
+            // The curves will have at least about as many points as probes: past the limit,
+            // refused before the probes (and their memory) grow further.
+            if (options.max_points && caps.size() > options.max_points)
+                refuse_too_many(static_cast<double>(caps.size()), options.max_points);
         }
         if (caps.size() == caps_before && fine.size() == fine_before) break;
         if (observer && observer->should_stop()) throw Cancelled();
