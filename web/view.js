@@ -536,7 +536,7 @@ export class MeshView {
         clearTimeout(this.quiet);
         this.quiet = setTimeout(() => this.refresh(), this.quietMs);
       } else if (!same) {
-        this.paint(w, h, dpr);
+        this.paint(w, h);
       }
       this.drawPicture(w, h);
     }
@@ -550,7 +550,7 @@ export class MeshView {
     this.quiet = null;
     if (!this.mesh || this.gpuCount <= this.cacheAbove) return this.drawNow();
     const [w, h] = this.size();
-    this.paint(w, h, window.devicePixelRatio || 1);
+    this.paint(w, h);
     this.drawNow();
   }
 
@@ -572,7 +572,7 @@ export class MeshView {
   }
 
   // Draws the cells into the cached picture: the canvas's pixels and a margin around them.
-  paint(w, h, dpr) {
+  paint(w, h) {
     const gl = this.gl, k = this.cache, c = this.canvas;
     const max = Math.min(gl.getParameter(gl.MAX_TEXTURE_SIZE), gl.getParameter(gl.MAX_VIEWPORT_DIMS)[0]);
     // Device pixels: the canvas's plus an even margin, so that a whole-pixel pan samples the

@@ -267,16 +267,26 @@ TEST(Mesher, MinAngleRefinementGuaranteesTheBoundAwayFromInputCorners) {
     }
 }
 
+namespace {
+
+// The annulus's circles at 0.6 and 0.2, far coarser than the constant 0.04 inside.
+DensitySpec coarse_circles_fine_inside() {
+    DensitySpec d;
+    d.curves = {{"outer", 0.6}, {"inner", 0.2}};
+    d.interior = InteriorMode::Expression;
+    d.interior_expression = "0.04";
+    return d;
+}
+
+}  // namespace
+
 // Curves far coarser than the interior field beside them leave slivers no interior point
 // avoids; the pipeline spaces them again (pipeline/agreement.hpp). Coarse circles (0.6, 0.2)
 // around a constant interior of 0.04: every segment ends at most 1.5 times 0.04 long, the
 // smallest angle reaches 30 degrees, and the admission forecast counts the extra points.
 TEST(Mesher, CurvesFarCoarserThanTheInteriorAreSpacedAgainToAgreeWithIt) {
     const Domain dom = build_domain(annulus().domain);  // circles r = 1 and r = 0.3 about 0
-    DensitySpec d;
-    d.curves = {{"outer", 0.6}, {"inner", 0.2}};
-    d.interior = InteriorMode::Expression;
-    d.interior_expression = "0.04";
+    const DensitySpec d = coarse_circles_fine_inside();
     auto longest = [](const Mesh& m) {
         double l = 0.0;
         for (const MeshEdge& e : m.edges) l = std::max(l, distance(m.point(e.a), m.point(e.b)));
@@ -308,22 +318,22 @@ TEST(Mesher, CurvesFarCoarserThanTheInteriorAreSpacedAgainToAgreeWithIt) {
 // coarser segments further along the chord, the field is capped at the curve's spacing growing
 // by 1.5. Both NACA sections reach 30 degrees; the forecast follows the mesh.
 TEST(Mesher, AFarFieldCoarserThanEq61BesideItIsSpacedAgain) {
-  for (const char* code : {"0012", "23012"}) {
-    const Case c = naca(code);
-    SCOPED_TRACE(c.name);
-    const Domain dom = build_domain(c.domain);
-    MeshOptions off;
-    off.curve_agreement = false;
-    const MeshResult own = generate_mesh(dom, c.density, off);
-    EXPECT_LT(own.quality.angle_min, 30.0);
-    const MeshResult r = generate_mesh(dom, c.density);
-    expect_valid(r.mesh, "eq. 6.1, curves agreeing");
-    EXPECT_GT(r.stats.agreement.rounds, 0);
-    EXPECT_GE(r.quality.angle_min, 30.0);
-    EXPECT_GT(r.quality.size_ratio_within_sqrt2, own.quality.size_ratio_within_sqrt2);
-    EXPECT_NEAR(r.stats.forecast_points / static_cast<double>(r.mesh.point_count()), 1.0, 0.1);
-    EXPECT_NEAR(own.stats.forecast_points / static_cast<double>(own.mesh.point_count()), 1.0, 0.1);
-  }
+    for (const char* code : {"0012", "23012"}) {
+        const Case c = naca(code);
+        SCOPED_TRACE(c.name);
+        const Domain dom = build_domain(c.domain);
+        MeshOptions off;
+        off.curve_agreement = false;
+        const MeshResult own = generate_mesh(dom, c.density, off);
+        EXPECT_LT(own.quality.angle_min, 30.0);
+        const MeshResult r = generate_mesh(dom, c.density);
+        expect_valid(r.mesh, "eq. 6.1, curves agreeing");
+        EXPECT_GT(r.stats.agreement.rounds, 0);
+        EXPECT_GE(r.quality.angle_min, 30.0);
+        EXPECT_GT(r.quality.size_ratio_within_sqrt2, own.quality.size_ratio_within_sqrt2);
+        EXPECT_NEAR(r.stats.forecast_points / static_cast<double>(r.mesh.point_count()), 1.0, 0.1);
+        EXPECT_NEAR(own.stats.forecast_points / static_cast<double>(own.mesh.point_count()), 1.0, 0.1);
+    }
 }
 
 // Refinement splits boundary segments whose diametral circle holds a circumcentre; on a
@@ -332,10 +342,7 @@ TEST(Mesher, AFarFieldCoarserThanEq61BesideItIsSpacedAgain) {
 // the curves left at their own density: the pipeline would otherwise space them again).
 TEST(Mesher, MinAngleRefinementPutsNewBoundaryPointsOnTheirCurves) {
     const Domain dom = build_domain(annulus().domain);  // circles r = 1 and r = 0.3 about 0
-    DensitySpec d;
-    d.curves = {{"outer", 0.6}, {"inner", 0.2}};
-    d.interior = InteriorMode::Expression;
-    d.interior_expression = "0.04";
+    const DensitySpec d = coarse_circles_fine_inside();
     MeshOptions o;
     o.curve_agreement = false;
     const MeshResult plain = generate_mesh(dom, d, o);

@@ -620,9 +620,10 @@ TEST_P(Http, ProbesAnswerWhileEveryHttpThreadWaitsAndLeavingClientsCancelTheirJo
     a.close();
     b.close();
     ASSERT_TRUE(eventually([&] { return series(page(), "meshd_jobs_total{status=\"cancelled\"}") == 2; })) << s.log();
-    const std::string last = page();
-    EXPECT_EQ(series(last, "meshd_jobs_total{status=\"succeeded\"}"), 0);
-    EXPECT_EQ(series(last, "meshd_workers_busy"), 0);
+    // A job is counted cancelled before its worker has returned: the workers are freed just
+    // after (waited for: read at once, it was seen at 1 in two full test runs of this session).
+    EXPECT_TRUE(eventually([&] { return series(page(), "meshd_workers_busy") == 0; })) << s.log();
+    EXPECT_EQ(series(page(), "meshd_jobs_total{status=\"succeeded\"}"), 0);
     EXPECT_NE(s.log().find("the client closed the connection; cancelling"), std::string::npos);
 }
 

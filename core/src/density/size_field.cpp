@@ -148,8 +148,17 @@ double SizeField::interior(Vec2 p) const {
     return h;
 }
 
+namespace {
+
+// A cap of cones over the points, or none without points.
+std::unique_ptr<GradationField> cap_of(std::vector<Vec2> points, std::vector<double> sizes, double ratio) {
+    return points.empty() ? nullptr : std::make_unique<GradationField>(std::move(points), std::move(sizes), ratio);
+}
+
+}  // namespace
+
 void SizeField::set_interior_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio) {
-    interior_cap_ = points.empty() ? nullptr : std::make_unique<GradationField>(std::move(points), std::move(sizes), ratio);
+    interior_cap_ = cap_of(std::move(points), std::move(sizes), ratio);
 }
 
 void SizeField::set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes) {
@@ -158,7 +167,7 @@ void SizeField::set_gradation_sources(std::vector<Vec2> points, std::vector<doub
 }
 
 void SizeField::set_curve_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio) {
-    curve_cap_ = points.empty() ? nullptr : std::make_unique<GradationField>(std::move(points), std::move(sizes), ratio);
+    curve_cap_ = cap_of(std::move(points), std::move(sizes), ratio);
 }
 
 void SizeField::set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths, double tolerance) {

@@ -16,16 +16,6 @@ namespace {
 // rounded up): enough for the caps' cones to cover it between probes.
 constexpr double kMaxProbesPerSegment = 256.0;
 
-// rho inside at p, or NaN where the interior density is not defined (a probe that fell
-// outside a narrow part of the domain, where an expression may be invalid): no cap from it.
-double field_at(const SizeField& rho, Vec2 p) {
-    try {
-        return rho.interior(p);
-    } catch (const GeometryError&) {
-        return NAN;
-    }
-}
-
 // The interior cap: the fine segments found so far and, under eq. 6.1, every point of the
 // boundary at the size it was placed for. eq. 6.1 averages segment lengths with weights 1/d,
 // so next to any curve whose spacing grows along it (an airfoil's, tenfold from the leading
@@ -47,6 +37,14 @@ void set_interior_cap(SizeField& rho, const Discretisation& d, const std::vector
 
 }  // namespace
 
+double probe_interior(const SizeField& rho, Vec2 p) {
+    try {
+        return rho.interior(p);
+    } catch (const GeometryError&) {
+        return NAN;
+    }
+}
+
 AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const BoundaryOptions& options,
                                    Discretisation& d, Observer* observer) {
     AgreementStats stats;
@@ -65,8 +63,8 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
             // Half a segment inside: where the first interior points would go, and far enough
             // from the segment's own ends that eq. 6.1 is not just their length there.
             auto probe = [&](Vec2 at) {
-                double f = field_at(rho, at + (0.5 * l) * n);
-                if (embedded) f = std::fmin(f, field_at(rho, at - (0.5 * l) * n));
+                double f = probe_interior(rho, at + (0.5 * l) * n);
+                if (embedded) f = std::fmin(f, probe_interior(rho, at - (0.5 * l) * n));
                 return f;
             };
             const double f = probe(0.5 * (a + b));

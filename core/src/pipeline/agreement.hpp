@@ -22,6 +22,10 @@ inline constexpr double kAgreementCapRatio = 1.5;
 /// Rounds of probing and placing the curve points again, at most.
 inline constexpr int kAgreementRounds = 4;
 
+/// rho inside at p, or NaN where the interior density is not defined there (a probe that fell
+/// outside a narrow part of the domain, where an expression may be invalid): no cap from it.
+double probe_interior(const SizeField& rho, Vec2 p);
+
 /// Probes the interior field just inside every segment of `d` (half a segment off its middle,
 /// on the domain's side of loop segments, on both sides of embedded ones). Where a segment is
 /// longer than kAgreementRatio times the field there, caps rho on the curves at that field

@@ -316,16 +316,10 @@ void set_interpolation_sources(SizeField& rho, const Domain& domain, std::vector
 // The curves' intervals capped as agree_with_interior caps the curves (agreement.hpp): the
 // field probed half a local size off each interval (on both sides: the forecast does not
 // know which side is the domain's, and takes the larger value), caps where the interval's size is
-// more than kAgreementRatio times it. Returns the boundary count after the caps.
+// more than kAgreementRatio times it. Returns the boundary count after the caps. (The
+// interior caps at fine segments are not forecast: they add few points.)
 double agree_intervals(const Domain& domain, SizeField& rho, std::vector<Interval>& intervals, double boundary,
                        Poll& poll) {
-    auto field_at = [&](Vec2 p) {
-        try {
-            return rho.interior(p);
-        } catch (const GeometryError&) {
-            return static_cast<double>(NAN);
-        }
-    };
     std::vector<Vec2> caps;
     std::vector<double> sizes;
     for (int round = 0; round < kAgreementRounds; ++round) {
@@ -337,7 +331,7 @@ double agree_intervals(const Domain& domain, SizeField& rho, std::vector<Interva
             const double lt = norm(t);
             if (!(lt > 0.0)) continue;
             const Vec2 off = (0.5 * x.size / lt) * perp(t);
-            const double f = std::fmax(field_at(x.at + off), field_at(x.at - off));
+            const double f = std::fmax(probe_interior(rho, x.at + off), probe_interior(rho, x.at - off));
             if (!(x.size > kAgreementRatio * f)) continue;
             caps.push_back(x.at);
             sizes.push_back(f);
