@@ -16,10 +16,16 @@ namespace meshd::core {
 
 namespace {
 
-using detail::CellMap;
+using detail::CellGrid;
 using detail::SizeClasses;
 using detail::next3;
 using detail::prev3;
+
+// The grids hold copies of the coordinates (a proximity or crossing test then reads one
+// chain entry and nothing else) and tell the points A and B of the tested segment by their
+// coordinates: no two points of the front coincide.
+using GridPoint = std::uint32_t;
+using GridSegment = std::uint32_t;
 
 struct FrontSegment {
     std::uint32_t a, b;
@@ -30,16 +36,25 @@ struct FrontSegment {
 class AdvancingFront {
 public:
     AdvancingFront(const Domain& domain, const Discretisation& d, const BoundaryTriangulation& walls,
-                   const SizeField& rho, const InteriorOptions& opt, size_t max_points, Observer* obs,
+                   const SizeField& rho, const InteriorOptions& opt, InteriorBudget budget, Observer* obs,
                    InteriorStats& stats)
-        : rho_(rho), opt_(opt), max_points_(max_points), obs_(obs), stats_(stats),
+        : rho_(rho), opt_(opt), max_points_(budget.max_points), obs_(obs), stats_(stats),
           box_(domain.box()),
           classes_(domain.box().lo - Vec2{domain.extent(), domain.extent()}, domain.extent()),
           wall_points_(walls.points), wall_triangles_(walls.triangles),
           walls_(wall_points_, wall_triangles_, true) {
         // Points: the boundary's, with their curve densities.
         const size_t nb = d.size();
-        pts_.reserve(nb * 4);
+        // Counted on the benchmark case: two front segments per point, and three grid entries
+        // per point in each grid.
+        size_t n = std::max(nb * 4, budget.expected_points + budget.expected_points / 8);
+        if (max_points_) n = std::min(n, max_points_ + 1);
+        pts_.reserve(n);
+        prho_.reserve(n);
+        home_.reserve(n);
+        front_.reserve(2 * n);
+        points_.reserve(3 * n);
+        segments_.reserve(3 * n);
         for (VertexId v = 0; v < nb; ++v) add_point(d.point(v), d.rho[v], kNoTriangle);
         boundary_count_ = nb;
         for (size_t i = 0; i < d.segments.size(); ++i) {
@@ -68,14 +83,13 @@ public:
 
 private:
     void add_point(Vec2 p, double r, TriangleId home) {
-        const auto id = static_cast<std::uint32_t>(pts_.size());
         pts_.push_back(p);
         prho_.push_back(r);
         home_.push_back(home);
         const int k = classes_.class_of(r);
         for (int kk = k - 1; kk <= k + 1; ++kk) {
             if (kk < 1 || kk > SizeClasses::kMax) continue;
-            points_.push(SizeClasses::key(kk, classes_.ix(p.x, kk), classes_.iy(p.y, kk)), id);
+            points_.push(kk, classes_.ix(p.x, kk), classes_.iy(p.y, kk), static_cast<std::uint32_t>(pts_.size() - 1));
         }
         if (max_points_ && pts_.size() > max_points_)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
@@ -88,9 +102,10 @@ private:
         stack_.push_back(id);
         const Vec2 pa = pts_[a], pb = pts_[b];
         const int k = classes_.class_of(distance(pa, pb));
-        for (auto x = classes_.ix(std::fmin(pa.x, pb.x), k); x <= classes_.ix(std::fmax(pa.x, pb.x), k); ++x)
-            for (auto y = classes_.iy(std::fmin(pa.y, pb.y), k); y <= classes_.iy(std::fmax(pa.y, pb.y), k); ++y)
-                segments_.push(SizeClasses::key(k, x, y), id);
+        const std::int64_t x0 = classes_.ix(std::min(pa.x, pb.x), k), x1 = classes_.ix(std::max(pa.x, pb.x), k);
+        const std::int64_t y0 = classes_.iy(std::min(pa.y, pb.y), k), y1 = classes_.iy(std::max(pa.y, pb.y), k);
+        for (auto x = x0; x <= x1; ++x)
+            for (auto y = y0; y <= y1; ++y) segments_.push(k, x, y, id);
     }
 
     // The candidate of (4.3)/(4.7)/(4.12)/(4.19) for segment a -> b with radii ra, rb.
@@ -124,30 +139,23 @@ private:
     // (4.22) against the points of classes k-3 .. k+1 around the class k of C: the grid of
     // class k holds classes k-1 .. k+1 and that of class k-2 holds k-3 .. k-1, so points up
     // to 16 times coarser than C are seen (their reach is largest) and down to 4 times finer.
-    // The cell of C in its own class is looked at first: it holds the offending point of most
-    // rejected candidates, and any offending point decides.
-    bool near_other_point(Vec2 c, double rc, std::uint32_t a, std::uint32_t b) const {
-        auto near_in_cell = [&](int kk, std::int64_t x, std::int64_t y) {
-            for (auto e = points_.head(SizeClasses::key(kk, x, y)); e != CellMap::kNone; e = points_.next(e)) {
-                const std::uint32_t p = points_.item(e);
-                if (p == a || p == b) continue;
-                const double lim = opt_.proximity * 0.5 * (rc + prho_[p]);
-                if (norm2(pts_[p] - c) < lim * lim) return true;
-            }
-            return false;
+    bool near_other_point(Vec2 c, double rc, Vec2 a, Vec2 b) const {
+        auto near = [&](const GridPoint& q) {
+            const Vec2 qp = pts_[q];
+            if (qp == a || qp == b) return false;
+            const double lim = opt_.proximity * 0.5 * (rc + prho_[q]);
+            return norm2(qp - c) < lim * lim;
         };
         const int k = classes_.class_of(rc);
         const std::int64_t cx = classes_.ix(c.x, k), cy = classes_.iy(c.y, k);
-        if (near_in_cell(k, cx, cy)) return true;
+        if (points_.any_in(k, cx, cx, cy, cy, near)) return true;
         for (int kk : {k, k - 2}) {
             if (kk < 1) continue;
             // Largest rho in grid kk: 2 c_(kk-1) = 2 cell(kk); reach (rc + that) / 2.
             const double reach = opt_.proximity * 0.5 * (rc + 2.0 * classes_.cell(kk));
-            const std::int64_t x0 = classes_.ix(c.x - reach, kk), x1 = classes_.ix(c.x + reach, kk);
-            const std::int64_t y0 = classes_.iy(c.y - reach, kk), y1 = classes_.iy(c.y + reach, kk);
-            for (auto x = x0; x <= x1; ++x)
-                for (auto y = y0; y <= y1; ++y)
-                    if (!(kk == k && x == cx && y == cy) && near_in_cell(kk, x, y)) return true;
+            if (points_.any_in(kk, classes_.ix(c.x - reach, kk), classes_.ix(c.x + reach, kk),
+                               classes_.iy(c.y - reach, kk), classes_.iy(c.y + reach, kk), near))
+                return true;
         }
         return false;
     }
@@ -155,15 +163,14 @@ private:
     // Does AC or BC cross a segment of the front (any segment ever made, so also those now
     // inside the covered region)? Each is checked against the segments of its class and the
     // two next to it, in one scan of the cells around ABC.
-    bool crosses_front(std::uint32_t ia, std::uint32_t ib, Vec2 c) const {
-        const Vec2 a = pts_[ia], b = pts_[ib];
+    bool crosses_front(Vec2 a, Vec2 b, Vec2 c) const {
         struct Edge {
             Vec2 p, lo, hi;
             int k;
         };
         const Edge edges[2] = {
-            {a, {std::fmin(a.x, c.x), std::fmin(a.y, c.y)}, {std::fmax(a.x, c.x), std::fmax(a.y, c.y)}, classes_.class_of(distance(a, c))},
-            {b, {std::fmin(b.x, c.x), std::fmin(b.y, c.y)}, {std::fmax(b.x, c.x), std::fmax(b.y, c.y)}, classes_.class_of(distance(b, c))}};
+            {a, {std::min(a.x, c.x), std::min(a.y, c.y)}, {std::max(a.x, c.x), std::max(a.y, c.y)}, classes_.class_of(distance(a, c))},
+            {b, {std::min(b.x, c.x), std::min(b.y, c.y)}, {std::max(b.x, c.x), std::max(b.y, c.y)}, classes_.class_of(distance(b, c))}};
         const int k_lo = std::max(1, std::min(edges[0].k, edges[1].k) - 1);
         const int k_hi = std::min(SizeClasses::kMax, std::max(edges[0].k, edges[1].k) + 1);
         for (int k = k_lo; k <= k_hi; ++k) {
@@ -174,24 +181,24 @@ private:
                     box.add(edges[i].lo);
                     box.add(edges[i].hi);
                 }
-            const std::int64_t x0 = classes_.ix(box.lo.x, k), x1 = classes_.ix(box.hi.x, k);
-            const std::int64_t y0 = classes_.iy(box.lo.y, k), y1 = classes_.iy(box.hi.y, k);
-            for (auto x = x0; x <= x1; ++x)
-                for (auto y = y0; y <= y1; ++y)
-                    for (auto e = segments_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = segments_.next(e)) {
-                        const FrontSegment& s = front_[segments_.item(e)];
-                        // Segments sharing an end with AB meet AC or BC there by construction.
-                        if (s.a == ia || s.a == ib || s.b == ia || s.b == ib) continue;
-                        const Vec2 sa = pts_[s.a], sb = pts_[s.b];
-                        const Vec2 slo{std::fmin(sa.x, sb.x), std::fmin(sa.y, sb.y)};
-                        const Vec2 shi{std::fmax(sa.x, sb.x), std::fmax(sa.y, sb.y)};
-                        for (int i = 0; i < 2; ++i) {
-                            const Edge& g = edges[i];
-                            if (!use[i] || shi.x < g.lo.x || slo.x > g.hi.x || shi.y < g.lo.y || slo.y > g.hi.y)
-                                continue;  // not this class, or the boxes do not meet
-                            if (segments_intersect(g.p, c, sa, sb)) return true;
-                        }
-                    }
+            auto crossed = [&](const GridSegment& si) {
+                const FrontSegment& fs = front_[si];
+                const struct { Vec2 a, b; } s{pts_[fs.a], pts_[fs.b]};
+                // Segments sharing an end with AB meet AC or BC there by construction.
+                if (s.a == a || s.a == b || s.b == a || s.b == b) return false;
+                const Vec2 slo{std::min(s.a.x, s.b.x), std::min(s.a.y, s.b.y)};
+                const Vec2 shi{std::max(s.a.x, s.b.x), std::max(s.a.y, s.b.y)};
+                for (int i = 0; i < 2; ++i) {
+                    const Edge& g = edges[i];
+                    if (!use[i] || shi.x < g.lo.x || slo.x > g.hi.x || shi.y < g.lo.y || slo.y > g.hi.y)
+                        continue;  // not this class, or the boxes do not meet
+                    if (segments_intersect(g.p, c, s.a, s.b)) return true;
+                }
+                return false;
+            };
+            if (segments_.any_in(k, classes_.ix(box.lo.x, k), classes_.ix(box.hi.x, k), classes_.iy(box.lo.y, k),
+                                 classes_.iy(box.hi.y, k), crossed))
+                return true;
         }
         return false;
     }
@@ -244,12 +251,12 @@ private:
             }
         }
         // The cheap local tests first: (4.22) rejects about half of all candidates.
-        if (near_other_point(c, rc, seg.a, seg.b)) {
+        if (near_other_point(c, rc, a, b)) {
             ++stats_.rejected_near;
             front_[s].alive = false;
             return;
         }
-        if (crosses_front(seg.a, seg.b, c)) {
+        if (crosses_front(a, b, c)) {
             ++stats_.rejected_crossing;
             front_[s].alive = false;
             return;
@@ -288,17 +295,18 @@ private:
     size_t boundary_count_ = 0;
     std::vector<FrontSegment> front_;
     std::vector<std::uint32_t> stack_;
-    CellMap points_, segments_;
+    CellGrid<GridPoint> points_;
+    CellGrid<GridSegment> segments_;
 };
 
 }  // namespace
 
 std::vector<Vec2> generate_interior_points(const Domain& domain, const Discretisation& boundary,
                                            const BoundaryTriangulation& walls, const SizeField& rho,
-                                           const InteriorOptions& options, size_t max_points,
+                                           const InteriorOptions& options, InteriorBudget budget,
                                            Observer* observer, InteriorStats* stats) {
     InteriorStats local;
-    AdvancingFront af(domain, boundary, walls, rho, options, max_points, observer, stats ? *stats : local);
+    AdvancingFront af(domain, boundary, walls, rho, options, budget, observer, stats ? *stats : local);
     return af.run();
 }
 

@@ -28,11 +28,16 @@ namespace meshd::core {
 /// The interior points (not including the boundary's), in the order they were made.
 /// `rho` must be ready for interior queries (set_interpolation_sources for eq. 6.1);
 /// `walls` is the constrained triangulation of `boundary` (triangulate_boundary). Refuses
-/// (TooManyPoints) beyond max_points points in all (0: no limit). Throws GeometryError
-/// (density invalid, too many points) or Cancelled.
+/// (TooManyPoints) beyond `max_points` points in all (0: no limit); `expected_points` (the
+/// admission forecast, 0: unknown) sizes the arrays once instead of growing them. Throws
+/// GeometryError (density invalid, too many points) or Cancelled.
+struct InteriorBudget {
+    size_t max_points = 0;
+    size_t expected_points = 0;
+};
 std::vector<Vec2> generate_interior_points(const Domain& domain, const Discretisation& boundary,
                                            const BoundaryTriangulation& walls, const SizeField& rho,
-                                           const InteriorOptions& options = {}, size_t max_points = 0,
+                                           const InteriorOptions& options = {}, InteriorBudget budget = {},
                                            Observer* observer = nullptr, InteriorStats* stats = nullptr);
 
 }  // namespace meshd::core

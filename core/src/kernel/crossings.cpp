@@ -45,7 +45,7 @@ SegmentGrid::SegmentGrid(const SegmentSoup& soup, double margin, const Box& box)
         used_[static_cast<size_t>(cls_[i])] = true;
         const Cells r = cells(i, cls_[i]);
         for (auto x = r.x0; x <= r.x1; ++x)
-            for (auto y = r.y0; y <= r.y1; ++y) grid_.push(SizeClasses::key(cls_[i], x, y), i);
+            for (auto y = r.y0; y <= r.y1; ++y) grid_.push(cls_[i], x, y, i);
     }
 }
 

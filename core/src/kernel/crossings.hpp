@@ -43,7 +43,7 @@ public:
 
     template <class F>
     void in_cell(int k, std::int64_t x, std::int64_t y, F&& visit) const {
-        for (auto e = grid_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = grid_.next(e)) visit(grid_.item(e));
+        for (auto e = grid_.head(k, x, y); e != CellMap::kNone; e = grid_.next(e)) visit(grid_.item(e));
     }
     /// Every segment whose grown box may hold p (a superset: callers test), some more than once.
     template <class F>

@@ -11,7 +11,9 @@
 // query are not seen: with densities that change by less than a factor 4 over one element
 // this is exact, and otherwise the proximity and crossing tests err on the permissive side.
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -20,56 +22,115 @@
 
 namespace meshd::core::detail {
 
-/// Open-addressing map from a 64-bit cell key to the head of a chain of entries.
-class CellMap {
+/// Chains of items by grid cell (size class k, column x, row y). The cells are kept in
+/// blocks of 4 x 4 that share one slot of an open-addressing hash map and one cache line of
+/// chain heads, so a query over a few neighbouring cells costs one or two hash probes
+/// rather than one per cell. An item is stored in its chain entry (for the interior's
+/// points: the coordinates and size, so a proximity test reads one entry and nothing else).
+template <class Item>
+class CellGrid {
 public:
     static constexpr std::uint32_t kNone = UINT32_MAX;
 
-    CellMap() { resize(1024); }
+    CellGrid() { rehash(1024); }
 
-    std::uint32_t head(std::uint64_t key) const {
-        const size_t s = find(key);
-        return heads_[s];
+    /// Room for this many entries without growing. (On the benchmark case a block of the
+    /// interior's grids holds 64 entries of points and 290 of segments; room is made for
+    /// blocks of 32.)
+    void reserve(size_t entries) {
+        entries_.reserve(entries);
+        blocks_.reserve(entries / 32);
+        if (2 * (entries / 32) > slots_.size()) rehash(std::bit_ceil(2 * (entries / 32)));
     }
-    void push(std::uint64_t key, std::uint32_t item) {
-        if (2 * (used_ + 1) > keys_.size()) resize(2 * keys_.size());
-        size_t s = find(key);
-        if (heads_[s] == kNone) {
-            keys_[s] = key;
-            ++used_;
-        }
-        next_.push_back(heads_[s]);
-        item_.push_back(item);
-        heads_[s] = static_cast<std::uint32_t>(item_.size() - 1);
+
+    std::uint32_t head(int k, std::int64_t x, std::int64_t y) const {
+        const std::uint32_t b = find_block(k, x, y);
+        return b == kNone ? kNone : blocks_[b].head[within(x, y)];
     }
-    std::uint32_t next(std::uint32_t entry) const { return next_[entry]; }
-    std::uint32_t item(std::uint32_t entry) const { return item_[entry]; }
+    void push(int k, std::int64_t x, std::int64_t y, const Item& item) {
+        std::uint32_t& h = blocks_[block(k, x, y)].head[within(x, y)];
+        entries_.push_back({item, h});
+        h = static_cast<std::uint32_t>(entries_.size() - 1);
+    }
+    std::uint32_t next(std::uint32_t entry) const { return entries_[entry].next; }
+    const Item& item(std::uint32_t entry) const { return entries_[entry].item; }
+
+    /// Calls visit(item) for the items of the cells [x0, x1] x [y0, y1] of class k, block by
+    /// block, until it returns true; returns whether it did.
+    template <class Visit>
+    bool any_in(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Visit&& visit) const {
+        for (std::int64_t bx = x0 >> 2; bx <= x1 >> 2; ++bx)
+            for (std::int64_t by = y0 >> 2; by <= y1 >> 2; ++by) {
+                const std::uint32_t b = find_block(k, bx << 2, by << 2);
+                if (b == kNone) continue;
+                const Block& blk = blocks_[b];
+                const std::int64_t xa = std::max(x0, bx << 2), xb = std::min(x1, (bx << 2) + 3);
+                const std::int64_t ya = std::max(y0, by << 2), yb = std::min(y1, (by << 2) + 3);
+                for (std::int64_t x = xa; x <= xb; ++x)
+                    for (std::int64_t y = ya; y <= yb; ++y)
+                        for (std::uint32_t e = blk.head[within(x, y)]; e != kNone; e = entries_[e].next)
+                            if (visit(entries_[e].item)) return true;
+            }
+        return false;
+    }
 
 private:
-    size_t find(std::uint64_t key) const {
-        const size_t mask = keys_.size() - 1;
-        size_t s = static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> 17) & mask;
-        while (heads_[s] != kNone && keys_[s] != key) s = (s + 1) & mask;
+    struct alignas(64) Block {
+        std::array<std::uint32_t, 16> head;
+    };
+    struct Slot {
+        std::uint64_t key;
+        std::uint32_t block;  // kNone: empty
+    };
+    struct Entry {
+        Item item;
+        std::uint32_t next;
+    };
+
+    static std::uint64_t block_key(int k, std::int64_t x, std::int64_t y) {
+        constexpr std::uint64_t mask = (std::uint64_t{1} << 28) - 1;
+        return (static_cast<std::uint64_t>(k) << 56) | ((static_cast<std::uint64_t>(x >> 2) & mask) << 28) |
+               (static_cast<std::uint64_t>(y >> 2) & mask);
+    }
+    static size_t within(std::int64_t x, std::int64_t y) { return static_cast<size_t>((x & 3) << 2 | (y & 3)); }
+    size_t slot_of(std::uint64_t key) const {
+        const size_t mask = slots_.size() - 1;
+        size_t s = static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);
+        while (slots_[s].block != kNone && slots_[s].key != key) s = (s + 1) & mask;
         return s;
     }
-    void resize(size_t n) {
-        std::vector<std::uint64_t> old_keys = std::move(keys_);
-        std::vector<std::uint32_t> old_heads = std::move(heads_);
-        keys_.assign(n, 0);
-        heads_.assign(n, kNone);
-        for (size_t i = 0; i < old_keys.size(); ++i) {
-            if (old_heads[i] == kNone) continue;
-            const size_t s = find(old_keys[i]);
-            keys_[s] = old_keys[i];
-            heads_[s] = old_heads[i];
+    std::uint32_t find_block(int k, std::int64_t x, std::int64_t y) const {
+        return slots_[slot_of(block_key(k, x, y))].block;
+    }
+    std::uint32_t block(int k, std::int64_t x, std::int64_t y) {
+        const std::uint64_t key = block_key(k, x, y);
+        size_t s = slot_of(key);
+        if (slots_[s].block != kNone) return slots_[s].block;
+        if (2 * (blocks_.size() + 1) > slots_.size()) {
+            rehash(2 * slots_.size());
+            s = slot_of(key);
         }
+        Block fresh;
+        fresh.head.fill(kNone);
+        blocks_.push_back(fresh);
+        slots_[s] = {key, static_cast<std::uint32_t>(blocks_.size() - 1)};
+        return slots_[s].block;
+    }
+    void rehash(size_t n) {
+        std::vector<Slot> old = std::move(slots_);
+        slots_.assign(n, Slot{0, kNone});
+        shift_ = 64 - std::countr_zero(n);
+        for (const Slot& o : old)
+            if (o.block != kNone) slots_[slot_of(o.key)] = o;
     }
 
-    std::vector<std::uint64_t> keys_;
-    std::vector<std::uint32_t> heads_;
-    std::vector<std::uint32_t> next_, item_;
-    size_t used_ = 0;
+    std::vector<Slot> slots_;
+    int shift_ = 64;
+    std::vector<Block> blocks_;
+    std::vector<Entry> entries_;
 };
+
+using CellMap = CellGrid<std::uint32_t>;
 
 class SizeClasses {
 public:

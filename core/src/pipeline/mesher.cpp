@@ -203,8 +203,12 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     // Interior.
     begin(Stage::Interior);
     t0 = Clock::now();
-    std::vector<Vec2> inner = generate_interior_points(domain, fixed, walls, rho, options.interior, options.max_points,
-                                                       observer, &r.stats.interior);
+    const double forecast = r.stats.forecast_points;
+    InteriorBudget budget{options.max_points, forecast > 0.0 && forecast < static_cast<double>(options.max_points)
+                                                  ? static_cast<size_t>(forecast)
+                                                  : 0};
+    std::vector<Vec2> inner = generate_interior_points(domain, fixed, walls, rho, options.interior, budget, observer,
+                                                       &r.stats.interior);
     {
         // Along a Hilbert curve: neighbours in the mesh become neighbours in memory, which
         // the triangle order (order_by_largest_corner) and every later sweep profit from.

@@ -110,7 +110,7 @@ private:
         touched_[a] = touched_[b] = 1;
         for (auto x = classes_->ix(std::fmin(pa.x, pb.x), k); x <= classes_->ix(std::fmax(pa.x, pb.x), k); ++x)
             for (auto y = classes_->iy(std::fmin(pa.y, pb.y), k); y <= classes_->iy(std::fmax(pa.y, pb.y), k); ++y)
-                grid_.push(SizeClasses::key(k, x, y), id);
+                grid_.push(k, x, y, id);
         class_edges_[static_cast<size_t>(k)].push_back(id);
         ++class_alive_[static_cast<size_t>(k)];
     }
@@ -138,7 +138,7 @@ private:
     }
 
     bool cell_blocks(std::uint32_t p, std::uint32_t q, int k, std::int64_t x, std::int64_t y) const {
-        for (auto e = grid_.head(SizeClasses::key(k, x, y)); e != CellMap::kNone; e = grid_.next(e))
+        for (auto e = grid_.head(k, x, y); e != CellMap::kNone; e = grid_.next(e))
             if (crosses(p, q, grid_.item(e))) return true;
         return false;
     }
