@@ -36,6 +36,10 @@ namespace {
 
 // A piece holding fewer points than this is resolved: splitting it changes the count little.
 constexpr double kResolved = 0.25;
+// A cell of the plane holding less than this fraction of the interior's count so far is
+// resolved too: a small mesh is forecast from a few thousand samples, not four per point
+// (the sample budget binds long before this on large meshes).
+constexpr double kRelativeResolution = 1.0 / 4096.0;
 
 // Where in its cell a sample sits: off the centre, so that the samples of cells on a regular
 // grid rarely fall exactly on the (often axis-aligned, round-numbered) outline.
@@ -182,6 +186,7 @@ double forecast_interior(const Domain& domain, const SizeField& rho, size_t budg
     // the true curves, between a curve and its flattening) counts as nothing here: the stages
     // report it where it matters.
     double inside_count = 0.0, inside_area = 0.0;  // of the inside samples so far
+    double leaves = 0.0;                            // the count of the cells not split
     auto density_at = [&](Vec2 p, double& f) {
         try {
             const double h = rho.interior(p);
@@ -203,6 +208,7 @@ double forecast_interior(const Domain& domain, const SizeField& rho, size_t budg
             c.f = f;
             c.count = c.priority = area * f;
             inside_count += c.count;
+            leaves += c.count;
             inside_area += area;
         } else {
             // Outside at the sample: nothing counted, but a cell the outline passes through
@@ -241,7 +247,8 @@ double forecast_interior(const Domain& domain, const SizeField& rho, size_t budg
     queue.push(root.get());
     cells.push_back(std::move(root));
 
-    while (!queue.empty() && samples + 4 <= budget && queue.top()->priority > kResolved) {
+    while (!queue.empty() && samples + 4 <= budget &&
+           queue.top()->priority > std::max(kResolved, kRelativeResolution * leaves)) {
         Cell* parent = queue.top();
         queue.pop();
         const double half = 0.5 * parent->size;
@@ -262,6 +269,7 @@ double forecast_interior(const Domain& domain, const SizeField& rho, size_t budg
             queue.push(child.get());
             cells.push_back(std::move(child));
         }
+        leaves -= parent->count;
         parent->count = parent->priority = 0.0;  // now held by its children
         std::vector<std::uint32_t>().swap(parent->segs);
     }

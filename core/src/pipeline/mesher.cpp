@@ -175,8 +175,12 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         r.stats.agreement = agree_with_interior(domain, rho, bopt, d, observer);
         if (r.stats.agreement.rounds > 0) walls = triangulate_boundary(d);
     }
-    if (asked.max_points) {
-        // Refuse before the interior work when the mesh would clearly be too large.
+    // Refuse before the interior work when the mesh would clearly be too large. Not needed
+    // when the forecast, which sees everything but the gradation and the interior's caps
+    // at fine curves, is far below the limit and neither was applied.
+    const bool forecast_decides = !rho.gradation() && r.stats.agreement.rounds == 0 &&
+                                  4.0 * r.stats.forecast_points < static_cast<double>(options.max_points);
+    if (asked.max_points && !forecast_decides) {
         const double limit = static_cast<double>(options.max_points);
         const double estimate = estimate_point_count(d, walls, rho, limit, observer);
         if (estimate > limit) refuse_too_many(estimate, options.max_points);

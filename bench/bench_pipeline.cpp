@@ -1,0 +1,49 @@
+// The whole pipeline on the small request of the load run (bench/load/small_square.json: a
+// unit square, size 0.016 + 0.01 x, about 2,500 points): what a small request costs besides
+// HTTP and JSON, stage by stage (counters in ms; "boundary" includes the admission forecast
+// and the estimate).
+
+#include <benchmark/benchmark.h>
+
+#include "meshd/core/mesher.hpp"
+
+using namespace meshd::core;
+
+namespace {
+
+Domain small_square() {
+    DomainSpec s;
+    s.points = {{"A", {0, 0}}, {"B", {1, 0}}, {"C", {1, 1}}, {"D", {0, 1}}};
+    s.curves.push_back({"bottom", LineShape{}, "A", "B", std::nullopt});
+    s.curves.push_back({"right", LineShape{}, "B", "C", std::nullopt});
+    s.curves.push_back({"top", LineShape{}, "C", "D", std::nullopt});
+    s.curves.push_back({"left", LineShape{}, "D", "A", std::nullopt});
+    s.loops = {{{"bottom", false}, {"right", false}, {"top", false}, {"left", false}}};
+    return build_domain(s);
+}
+
+void BM_SmallRequest(benchmark::State& state) {
+    const Domain domain = small_square();
+    DensitySpec density;
+    density.size = "0.016 + 0.01 * x";
+    MeshOptions options;
+    StageTimings sum{};
+    size_t points = 0;
+    for (auto _ : state) {
+        const MeshResult r = generate_mesh(domain, density, options);
+        points = r.mesh.point_count();
+        sum.boundary_ms += r.timings.boundary_ms;
+        sum.interior_ms += r.timings.interior_ms;
+        sum.triangulation_ms += r.timings.triangulation_ms;
+        sum.smoothing_ms += r.timings.smoothing_ms;
+    }
+    const double n = static_cast<double>(state.iterations());
+    state.counters["points"] = static_cast<double>(points);
+    state.counters["boundary_ms"] = sum.boundary_ms / n;
+    state.counters["interior_ms"] = sum.interior_ms / n;
+    state.counters["triangulation_ms"] = sum.triangulation_ms / n;
+    state.counters["smoothing_ms"] = sum.smoothing_ms / n;
+}
+BENCHMARK(BM_SmallRequest)->Unit(benchmark::kMillisecond);
+
+}  // namespace
