@@ -14,6 +14,7 @@
 #include <numbers>
 #include <vector>
 
+#include "kernel/memory.hpp"
 #include "triangulation/triangle_soup.hpp"
 #include "meshd/core/errors.hpp"
 #include "improve/smooth.hpp"
@@ -56,11 +57,10 @@ double shape(Vec2 a, Vec2 b, Vec2 c) {
 class Smoother {
 public:
     Smoother(Mesh& m, Observer* observer)
-        : m_(m), observer_(observer), pts_(m.point_count()), soup_(pts_, m.triangles, true) {
-        for (std::uint32_t v = 0; v < m.point_count(); ++v) pts_[v] = m.point(v);
-        quality_.resize(m.triangles.size());
+        : m_(m), observer_(observer), pts_(points_of(m)), soup_(pts_, m.triangles, true) {
+        detail::assign_huge(quality_, m.triangles.size(), 0.0);
         for (TriangleId t = 0; t < m.triangles.size(); ++t) update_quality(t);
-        seen_.assign(m.triangles.size(), 0);
+        detail::assign_huge(seen_, m.triangles.size(), std::uint32_t{0});
     }
 
     ~Smoother() = default;
@@ -71,17 +71,19 @@ public:
         const size_t nv = pts_.size();
         // The corners around each point, as triangle << 2 | index: fixed during the sweeps,
         // as nothing flips until they end.
-        offset_.assign(nv + 1, 0);
+        detail::assign_huge(offset_, nv + 1, std::uint32_t{0});
         for (const Triangle& t : m_.triangles)
             for (const auto v : t.v) ++offset_[v + 1];
         for (size_t v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
-        corners_.resize(offset_[nv]);
+        detail::assign_huge(corners_, offset_[nv], std::uint32_t{0});
         {
             std::vector<std::uint32_t> fill(offset_.begin(), offset_.end() - 1);
             for (TriangleId t = 0; t < m_.triangles.size(); ++t)
                 for (std::uint32_t i = 0; i < 3; ++i) corners_[fill[m_.triangles[t].v[i]]++] = t << 2 | i;
         }
-        std::vector<char> active(nv, 0), next(nv, 0);
+        std::vector<char> active, next;
+        detail::assign_huge(active, nv, char{0});
+        detail::assign_huge(next, nv, char{0});
         for (size_t v = 0; v < nv; ++v) active[v] = m_.kind[v] == PointKind::Interior;
         std::vector<std::uint32_t> moved;
         std::uint64_t moves = 0;
@@ -144,6 +146,13 @@ public:
     }
 
 private:
+    static std::vector<Vec2> points_of(const Mesh& m) {
+        std::vector<Vec2> pts;
+        detail::reserve_huge(pts, m.point_count());
+        for (std::uint32_t v = 0; v < m.point_count(); ++v) pts.push_back(m.point(v));
+        return pts;
+    }
+
     // One round of repair() over the given triangles; returns the corners that moved.
     std::vector<std::uint32_t> repair_round(const std::vector<TriangleId>& suspects) {
         std::vector<std::uint32_t> corners, moved;

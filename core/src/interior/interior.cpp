@@ -9,6 +9,7 @@
 
 #include "triangulation/triangle_soup.hpp"
 #include "kernel/size_grid.hpp"
+#include "kernel/memory.hpp"
 #include "meshd/core/errors.hpp"
 #include "kernel/predicates.hpp"
 
@@ -49,10 +50,10 @@ public:
         // per point in each grid.
         size_t n = std::max(nb * 4, budget.expected_points + budget.expected_points / 8);
         if (max_points_) n = std::min(n, max_points_ + 1);
-        pts_.reserve(n);
-        prho_.reserve(n);
-        home_.reserve(n);
-        front_.reserve(2 * n);
+        detail::reserve_huge(pts_, n);
+        detail::reserve_huge(prho_, n);
+        detail::reserve_huge(home_, n);
+        detail::reserve_huge(front_, 2 * n);
         points_.reserve(3 * n);
         segments_.reserve(3 * n);
         for (VertexId v = 0; v < nb; ++v) add_point(d.point(v), d.rho[v], kNoTriangle);

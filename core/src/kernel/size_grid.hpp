@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "meshd/core/vec2.hpp"
+#include "kernel/memory.hpp"
 
 namespace meshd::core::detail {
 
@@ -38,8 +39,8 @@ public:
     /// interior's grids holds 64 entries of points and 290 of segments; room is made for
     /// blocks of 32.)
     void reserve(size_t entries) {
-        entries_.reserve(entries);
-        blocks_.reserve(entries / 32);
+        reserve_huge(entries_, entries);
+        reserve_huge(blocks_, entries / 32);
         if (2 * (entries / 32) > slots_.size()) rehash(std::bit_ceil(2 * (entries / 32)));
     }
 

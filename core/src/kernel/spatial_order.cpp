@@ -7,6 +7,8 @@
 #include <cmath>
 #include <utility>
 
+#include "kernel/memory.hpp"
+
 namespace meshd::core::detail {
 
 namespace {
@@ -61,7 +63,8 @@ private:
 // Sorts (key << 32 | index) on the key's low `bits` bits (stable LSD radix passes; the
 // index bits are in order already) and returns the indices.
 std::vector<std::uint32_t> sort_keys(std::vector<std::uint64_t>& keys, int bits) {
-    std::vector<std::uint64_t> tmp(keys.size());
+    std::vector<std::uint64_t> tmp;
+    assign_huge(tmp, keys.size(), std::uint64_t{0});
     std::array<size_t, 129> count{};
     for (int shift = 32; shift < 32 + bits; shift += 7) {
         count.fill(0);
@@ -83,7 +86,8 @@ std::vector<std::uint64_t> hilbert_keys(const std::vector<Vec2>& pts, Round roun
     for (const Vec2& p : pts) box.add(p);
     const double w = std::fmax(box.hi.x - box.lo.x, box.hi.y - box.lo.y);
     const double scale = w > 0.0 ? 4095.0 / w : 0.0;
-    std::vector<std::uint64_t> keys(pts.size());
+    std::vector<std::uint64_t> keys;
+    assign_huge(keys, pts.size(), std::uint64_t{0});
     for (size_t i = 0; i < pts.size(); ++i) {
         const auto hx = static_cast<std::uint32_t>((pts[i].x - box.lo.x) * scale);
         const auto hy = static_cast<std::uint32_t>((pts[i].y - box.lo.y) * scale);

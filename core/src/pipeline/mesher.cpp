@@ -14,6 +14,7 @@
 #include "improve/smooth.hpp"
 #include "interior/interior.hpp"
 #include "layers/layers.hpp"
+#include "kernel/memory.hpp"
 #include "kernel/predicates.hpp"
 #include "kernel/spatial_order.hpp"
 #include "meshd/core/errors.hpp"
@@ -39,17 +40,17 @@ double ms_since(Clock::time_point t0) {
 void assemble(Mesh& m, const Domain& domain, const Discretisation& d, const Discretisation& edges,
               const std::vector<Vec2>& inner, std::vector<Triangle> triangles) {
     const size_t n = d.size() + inner.size();
-    m.x.reserve(n);
-    m.y.reserve(n);
+    detail::reserve_huge(m.x, n);
+    detail::reserve_huge(m.y, n);
     m.x.assign(d.x.begin(), d.x.end());
     m.y.assign(d.y.begin(), d.y.end());
     for (const Vec2& p : inner) {
         m.x.push_back(p.x);
         m.y.push_back(p.y);
     }
-    m.kind.assign(n, PointKind::Interior);
-    m.curve.assign(n, kNoCurve);
-    m.param.assign(n, 0.0);
+    detail::assign_huge(m.kind, n, PointKind::Interior);
+    detail::assign_huge(m.curve, n, kNoCurve);
+    detail::assign_huge(m.param, n, 0.0);
     std::vector<bool> embedded_curve(domain.curves().size(), false);
     for (CurveId c : domain.embedded()) embedded_curve[c] = true;
     for (VertexId v = 0; v < d.size(); ++v) {
@@ -217,7 +218,8 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         // Along a Hilbert curve: neighbours in the mesh become neighbours in memory, which
         // the triangle order (order_by_largest_corner) and every later sweep profit from.
         const std::vector<std::uint32_t> order = detail::hilbert_order(inner);
-        std::vector<Vec2> sorted(inner.size());
+        std::vector<Vec2> sorted;
+        detail::assign_huge(sorted, inner.size(), Vec2{});
         for (size_t i = 0; i < order.size(); ++i) sorted[i] = inner[order[i]];
         inner = std::move(sorted);
     }

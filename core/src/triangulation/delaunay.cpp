@@ -21,6 +21,7 @@
 
 #include "triangulation/triangle_soup.hpp"
 #include "kernel/spatial_order.hpp"
+#include "kernel/memory.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/observer.hpp"
 #include "kernel/predicates.hpp"
@@ -41,8 +42,8 @@ public:
     // stay their perturbation ranks, so the result does not depend on this renumbering.
     IncrementalCdt(const std::vector<Vec2>& input, Observer* obs) : n_(input.size()), obs_(obs) {
         rank_ = detail::brio_order(input);
-        inverse_.resize(n_);
-        pts_.reserve(n_ + 3);
+        detail::assign_huge(inverse_, n_, std::uint32_t{0});
+        detail::reserve_huge(pts_, n_ + 3);
         for (size_t k = 0; k < n_; ++k) {
             pts_.push_back(input[rank_[k]]);
             inverse_[rank_[k]] = static_cast<std::uint32_t>(k);
@@ -56,11 +57,11 @@ public:
         pts_.push_back({c.x + 2 * d, c.y - d});
         pts_.push_back({c.x, c.y + 2 * d});
         for (size_t k = n_; k < n_ + 3; ++k) rank_.push_back(static_cast<std::uint32_t>(k));
-        tris_.reserve(2 * n_ + 16);
+        detail::reserve_huge(tris_, 2 * n_ + 16);
         tris_.push_back({{static_cast<std::uint32_t>(n_), static_cast<std::uint32_t>(n_ + 1), static_cast<std::uint32_t>(n_ + 2)},
                          {kNoTriangle, kNoTriangle, kNoTriangle}, 0, 0});
         soup_ = std::make_unique<detail::TriangleSoup>(pts_, tris_, true, &rank_);
-        alias_.resize(n_);
+        detail::assign_huge(alias_, n_, std::uint32_t{0});
         for (size_t i = 0; i < n_; ++i) alias_[i] = static_cast<std::uint32_t>(i);
     }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "kernel/memory.hpp"
 #include "kernel/predicates.hpp"
 #include "meshd/core/errors.hpp"
 
@@ -164,7 +165,7 @@ void TriangleSoup::rebuild_vertex_index() {
     std::uint32_t max_v = 0;
     for (const auto& t : t_)
         for (auto v : t.v) max_v = std::max(max_v, v);
-    vtri_.assign(std::max<size_t>(pts_.size(), static_cast<size_t>(max_v) + 1), kNoTriangle);
+    assign_huge(vtri_, std::max<size_t>(pts_.size(), static_cast<size_t>(max_v) + 1), kNoTriangle);
     for (TriangleId t = 0; t < t_.size(); ++t)
         for (auto v : t_[t].v) vtri_[v] = t;
 }
