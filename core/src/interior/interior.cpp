@@ -25,7 +25,10 @@ using detail::prev3;
 // The grids hold copies of the coordinates (a proximity or crossing test then reads one
 // chain entry and nothing else) and tell the points A and B of the tested segment by their
 // coordinates: no two points of the front coincide.
-using GridPoint = std::uint32_t;
+struct GridPoint {
+    Vec2 p;
+    double rho;
+};
 using GridSegment = std::uint32_t;
 
 struct FrontSegment {
@@ -54,7 +57,7 @@ public:
         detail::reserve_huge(prho_, n);
         detail::reserve_huge(home_, n);
         detail::reserve_huge(front_, 2 * n);
-        points_.reserve(3 * n);
+        points_.reserve(n);
         segments_.reserve(3 * n);
         for (VertexId v = 0; v < nb; ++v) add_point(d.point(v), d.rho[v], kNoTriangle);
         boundary_count_ = nb;
@@ -88,10 +91,7 @@ private:
         prho_.push_back(r);
         home_.push_back(home);
         const int k = classes_.class_of(r);
-        for (int kk = k - 1; kk <= k + 1; ++kk) {
-            if (kk < 1 || kk > SizeClasses::kMax) continue;
-            points_.push(kk, classes_.ix(p.x, kk), classes_.iy(p.y, kk), static_cast<std::uint32_t>(pts_.size() - 1));
-        }
+        points_.push(k, classes_.ix(p.x, k), classes_.iy(p.y, k), GridPoint{p, r});
         if (max_points_ && pts_.size() > max_points_)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
                                 "the mesh needs more than " + std::to_string(max_points_) + " points");
@@ -137,25 +137,24 @@ private:
         return is_finite(c);
     }
 
-    // (4.22) against the points of classes k-3 .. k+1 around the class k of C: the grid of
-    // class k holds classes k-1 .. k+1 and that of class k-2 holds k-3 .. k-1, so points up
+    // (4.22) against the points of classes k-3 .. k+1 around the class k of C, so points up
     // to 16 times coarser than C are seen (their reach is largest) and down to 4 times finer.
+    // Each point is in the grid of its own class; C's class and its neighbours are looked at
+    // first, as they hold the offending point of most rejected candidates, and any offending
+    // point decides.
     bool near_other_point(Vec2 c, double rc, Vec2 a, Vec2 b) const {
         auto near = [&](const GridPoint& q) {
-            const Vec2 qp = pts_[q];
-            if (qp == a || qp == b) return false;
-            const double lim = opt_.proximity * 0.5 * (rc + prho_[q]);
-            return norm2(qp - c) < lim * lim;
+            if (q.p == a || q.p == b) return false;
+            const double lim = opt_.proximity * 0.5 * (rc + q.rho);
+            return norm2(q.p - c) < lim * lim;
         };
         const int k = classes_.class_of(rc);
-        const std::int64_t cx = classes_.ix(c.x, k), cy = classes_.iy(c.y, k);
-        if (points_.any_in(k, cx, cx, cy, cy, near)) return true;
-        for (int kk : {k, k - 2}) {
-            if (kk < 1) continue;
-            // Largest rho in grid kk: 2 c_(kk-1) = 2 cell(kk); reach (rc + that) / 2.
-            const double reach = opt_.proximity * 0.5 * (rc + 2.0 * classes_.cell(kk));
-            if (points_.any_in(kk, classes_.ix(c.x - reach, kk), classes_.ix(c.x + reach, kk),
-                               classes_.iy(c.y - reach, kk), classes_.iy(c.y + reach, kk), near))
+        for (int j : {k, k - 1, k + 1, k - 2, k - 3}) {
+            if (j < 1 || j > SizeClasses::kMax) continue;
+            // rho in class j is below 2 c_j = cell(j); the reach is (rc + that) / 2.
+            const double reach = opt_.proximity * 0.5 * (rc + classes_.cell(j));
+            if (points_.any_in(j, classes_.ix(c.x - reach, j), classes_.ix(c.x + reach, j), classes_.iy(c.y - reach, j),
+                               classes_.iy(c.y + reach, j), near))
                 return true;
         }
         return false;
