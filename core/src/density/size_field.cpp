@@ -2,6 +2,7 @@
 
 #include "density/size_field.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "meshd/core/errors.hpp"
@@ -125,7 +126,7 @@ double SizeField::eval(const Source& s, Vec2 p) const {
                             "density is " + what + " at " + fmt_point(p), {s.subject})
             .at(p);
     }
-    return std::fmin(std::fmax(v, min_), max_);
+    return std::clamp(v, min_, max_);  // v is a number here, and min_ <= max_
 }
 
 double SizeField::on_curve(CurveId c, Vec2 p) const {

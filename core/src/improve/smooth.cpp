@@ -42,7 +42,7 @@ double min_angle(Vec2 a, Vec2 b, Vec2 c) {
     const double area2 = cross(b - a, c - a);
     const double angle_a = std::atan2(area2, dot(b - a, c - a));
     const double angle_b = std::atan2(area2, dot(c - b, a - b));
-    return std::fmin(std::fmin(angle_a, angle_b), std::numbers::pi - angle_a - angle_b);
+    return std::min({angle_a, angle_b, std::numbers::pi - angle_a - angle_b});
 }
 
 // The guard's measure of shape: the mean ratio 4 sqrt(3) A / (la^2 + lb^2 + lc^2), 1 for an
@@ -203,7 +203,7 @@ private:
             const Vec2 w = pts_[T.v[next3(corners_[e] & 3u)]];  // one neighbour per triangle
             sum += w;
             spokes2 += norm2(w - old);
-            worst_before = std::fmin(worst_before, quality_[corners_[e] >> 2]);
+            worst_before = std::min(worst_before, quality_[corners_[e] >> 2]);
         }
         const double k = static_cast<double>(last - first);
         const Vec2 target = sum / k;
@@ -236,7 +236,7 @@ private:
         double worst = std::numbers::pi;
         for (const TriangleId t : star_) {
             const Triangle& T = m_.triangles[t];
-            worst = std::fmin(worst, min_angle(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]));
+            worst = std::min(worst, min_angle(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]));
             if (worst < 0.0) break;
         }
         return worst;
