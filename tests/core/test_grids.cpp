@@ -1,0 +1,131 @@
+// The size-class grids' cell map (blocks of 4 x 4 cells behind one hash slot) against a plain
+// list, and the request for huge pages under large arrays.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "kernel/memory.hpp"
+#include "kernel/size_grid.hpp"
+
+using namespace meshd::core;
+using detail::CellGrid;
+
+namespace {
+
+struct Placed {
+    int k;
+    std::int64_t x, y;
+    std::uint32_t id;
+};
+
+std::vector<std::uint32_t> brute(const std::vector<Placed>& all, int k, std::int64_t x0, std::int64_t x1,
+                                 std::int64_t y0, std::int64_t y1) {
+    std::vector<std::uint32_t> out;
+    for (const Placed& p : all)
+        if (p.k == k && p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1) out.push_back(p.id);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+}  // namespace
+
+TEST(CellGrid, EveryBoxQuerySeesExactlyTheItemsOfItsCells) {
+    std::mt19937_64 rng(7);
+    std::uniform_int_distribution<std::int64_t> coord(-40, 40);  // across block edges and zero
+    std::uniform_int_distribution<int> cls(1, 4);
+    CellGrid<std::uint32_t> grid;
+    std::vector<Placed> all;
+    // Enough items to make the map grow several times (blocks and slots).
+    for (std::uint32_t id = 0; id < 20000; ++id) {
+        const Placed p{cls(rng), coord(rng), coord(rng), id};
+        grid.push(p.k, p.x, p.y, p.id);
+        all.push_back(p);
+    }
+    std::uniform_int_distribution<std::int64_t> width(0, 9);
+    for (int q = 0; q < 2000; ++q) {
+        const int k = cls(rng);
+        const std::int64_t x0 = coord(rng), y0 = coord(rng);
+        const std::int64_t x1 = x0 + width(rng), y1 = y0 + width(rng);
+        std::vector<std::uint32_t> seen;
+        EXPECT_FALSE(grid.any_in(k, x0, x1, y0, y1, [&](std::uint32_t id) {
+            seen.push_back(id);
+            return false;
+        }));
+        std::sort(seen.begin(), seen.end());
+        ASSERT_EQ(seen, brute(all, k, x0, x1, y0, y1)) << "class " << k << " [" << x0 << ", " << x1 << "] x [" << y0 << ", " << y1 << "]";
+    }
+    // One cell through its chain.
+    const Placed& p = all[1234];
+    std::vector<std::uint32_t> chain;
+    for (auto e = grid.head(p.k, p.x, p.y); e != CellGrid<std::uint32_t>::kNone; e = grid.next(e))
+        chain.push_back(grid.item(e));
+    std::sort(chain.begin(), chain.end());
+    EXPECT_EQ(chain, brute(all, p.k, p.x, p.x, p.y, p.y));
+    // A cell never written, in a block never made.
+    EXPECT_EQ(grid.head(9, 1000, 1000), CellGrid<std::uint32_t>::kNone);
+}
+
+TEST(CellGrid, AQueryStopsAtTheFirstItemItsVisitorAccepts) {
+    CellGrid<std::uint32_t> grid;
+    grid.reserve(64);
+    for (std::uint32_t id = 0; id < 10; ++id) grid.push(3, id % 5, 0, id);
+    int visits = 0;
+    EXPECT_TRUE(grid.any_in(3, 0, 4, 0, 0, [&](std::uint32_t) { return ++visits == 3; }));
+    EXPECT_EQ(visits, 3);
+    EXPECT_FALSE(grid.any_in(3, 5, 8, 0, 0, [](std::uint32_t) { return true; }));
+}
+
+#if defined(__linux__)
+// The VmFlags of the mapping holding address a in /proc/self/smaps.
+static std::string vm_flags_at(std::uintptr_t a) {
+    std::ifstream smaps("/proc/self/smaps");
+    std::string line;
+    bool inside = false;
+    while (std::getline(smaps, line)) {
+        std::uintptr_t lo = 0, hi = 0;
+        char dash = 0;
+        std::istringstream head(line);
+        if (head >> std::hex >> lo >> dash >> hi && dash == '-') {
+            inside = a >= lo && a < hi;
+            continue;
+        }
+        if (inside && line.rfind("VmFlags:", 0) == 0) return line;
+    }
+    return {};
+}
+
+TEST(HugePages, ALargeReservationIsMarkedForHugePagesAndKeepsItsContents) {
+    std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string mode((std::istreambuf_iterator<char>(thp)), std::istreambuf_iterator<char>());
+    // Where the kernel offers no transparent huge pages at all, madvise refuses and nothing
+    // can be checked; this project's machines offer them ("madvise" mode).
+    ASSERT_FALSE(mode.empty() || mode.find("[never]") != std::string::npos)
+        << "transparent huge pages are off on this machine: " << mode;
+
+    std::vector<std::uint64_t> v{1, 2, 3};
+    detail::reserve_huge(v, std::size_t{4} << 20);  // 32 MiB
+    ASSERT_GE(v.capacity(), std::size_t{4} << 20);
+    EXPECT_EQ(v, (std::vector<std::uint64_t>{1, 2, 3}));
+    constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+    const std::uintptr_t aligned = (reinterpret_cast<std::uintptr_t>(v.data()) + kHuge - 1) & ~(kHuge - 1);
+    EXPECT_NE(vm_flags_at(aligned).find(" hg"), std::string::npos) << vm_flags_at(aligned);
+
+    // A small array is left alone (no whole huge page inside it).
+    std::vector<std::uint64_t> small;
+    detail::reserve_huge(small, 1000);
+    EXPECT_EQ(vm_flags_at(reinterpret_cast<std::uintptr_t>(small.data())).find(" hg"), std::string::npos);
+
+    std::vector<std::uint32_t> filled;
+    detail::assign_huge(filled, std::size_t{3} << 20, std::uint32_t{7});
+    EXPECT_EQ(filled.size(), std::size_t{3} << 20);
+    EXPECT_TRUE(std::all_of(filled.begin(), filled.end(), [](std::uint32_t x) { return x == 7; }));
+}
+#endif
