@@ -3,11 +3,10 @@
 // advancing-front triangulator, and the crossing search of kernel/crossings.cpp.
 //
 // An object of size s belongs to class k = floor(log2(L / s)) (L: the domain extent), so
-// c_k = L 2^-k is in [s, 2s). The grid of class k has cells of 2 c_k. A point is entered
-// in the grids of its class and of the two neighbouring classes; a query from a place of
-// size s looks in a few grids around its own class (see the users), where points of
-// comparable size are found within one or two cells. Segments are entered once, in their class; a segment
-// query looks in three classes around its own. Objects much finer or coarser than the
+// c_k = L 2^-k is in [s, 2s). The grid of class k has cells of 2 c_k. Points and segments
+// are entered once, in the grid of their class; a query from a place of size s looks in the
+// grids of a few classes around its own (see the users), where objects of comparable size
+// are found within one or two cells. Objects much finer or coarser than the
 // query are not seen: with densities that change by less than a factor 4 over one element
 // this is exact, and otherwise the proximity and crossing tests err on the permissive side.
 
