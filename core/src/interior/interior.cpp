@@ -49,8 +49,9 @@ public:
           walls_(wall_points_, wall_triangles_, true) {
         // Points: the boundary's, with their curve densities.
         const size_t nb = d.size();
-        // Counted on the benchmark case: two front segments per point, and three grid entries
-        // per point in each grid.
+        // Counted on the benchmark case: two front segments per point, one entry per point in
+        // the points' grid and three in the segments' (a segment's box covers a few cells).
+        // A forecast far too large only reserves address space: untouched pages cost nothing.
         size_t n = std::max(nb * 4, budget.expected_points + budget.expected_points / 8);
         if (max_points_) n = std::min(n, max_points_ + 1);
         detail::reserve_huge(pts_, n);
