@@ -35,7 +35,7 @@ public:
     CellGrid() { rehash(1024); }
 
     /// Room for this many entries without growing. (On the benchmark case a block of the
-    /// interior's grids holds 64 entries of points and 290 of segments; room is made for
+    /// interior's grids holds about 100 entries of points and 290 of segments; room is made for
     /// blocks of 32.)
     void reserve(size_t entries) {
         reserve_huge(entries_, entries);
