@@ -22,9 +22,10 @@ using detail::SizeClasses;
 using detail::next3;
 using detail::prev3;
 
-// The grids hold copies of the coordinates (a proximity or crossing test then reads one
-// chain entry and nothing else) and tell the points A and B of the tested segment by their
-// coordinates: no two points of the front coincide.
+// The points' grid holds copies of the coordinates and sizes (a proximity test reads one
+// chain entry and nothing else); the segments' grid holds front segment indices (copies
+// made its entries ten times larger and the stage twice slower). Both tests tell the points
+// A and B of the tested segment by their coordinates: no two points of the front coincide.
 struct GridPoint {
     Vec2 p;
     double rho;
@@ -183,17 +184,16 @@ private:
                     box.add(edges[i].hi);
                 }
             auto crossed = [&](const GridSegment& si) {
-                const FrontSegment& fs = front_[si];
-                const struct { Vec2 a, b; } s{pts_[fs.a], pts_[fs.b]};
+                const Vec2 sa = pts_[front_[si].a], sb = pts_[front_[si].b];
                 // Segments sharing an end with AB meet AC or BC there by construction.
-                if (s.a == a || s.a == b || s.b == a || s.b == b) return false;
-                const Vec2 slo{std::min(s.a.x, s.b.x), std::min(s.a.y, s.b.y)};
-                const Vec2 shi{std::max(s.a.x, s.b.x), std::max(s.a.y, s.b.y)};
+                if (sa == a || sa == b || sb == a || sb == b) return false;
+                const Vec2 slo{std::min(sa.x, sb.x), std::min(sa.y, sb.y)};
+                const Vec2 shi{std::max(sa.x, sb.x), std::max(sa.y, sb.y)};
                 for (int i = 0; i < 2; ++i) {
                     const Edge& g = edges[i];
                     if (!use[i] || shi.x < g.lo.x || slo.x > g.hi.x || shi.y < g.lo.y || slo.y > g.hi.y)
                         continue;  // not this class, or the boxes do not meet
-                    if (segments_intersect(g.p, c, s.a, s.b)) return true;
+                    if (segments_intersect(g.p, c, sa, sb)) return true;
                 }
                 return false;
             };
