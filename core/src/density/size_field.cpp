@@ -133,6 +133,7 @@ double SizeField::on_curve(CurveId c, Vec2 p) const {
     double h = eval(sources_[*curve_source_[c]], p);
     if (graded_) h = std::fmax(std::fmin(h, (*graded_)(p)), min_);
     if (curve_cap_) h = std::fmax(curve_cap_->capped(p, h), min_);
+    if (cap_) h = std::fmax(cap_->capped(p, h), min_);
     return h;
 }
 
@@ -146,6 +147,7 @@ double SizeField::interior(Vec2 p) const {
     }
     if (graded_) h = std::fmax(std::fmin(h, (*graded_)(p)), min_);
     if (interior_cap_) h = std::fmax(interior_cap_->capped(p, h), min_);
+    if (cap_) h = std::fmax(cap_->capped(p, h), min_);
     return h;
 }
 
@@ -161,6 +163,8 @@ std::unique_ptr<GradationField> cap_of(std::vector<Vec2> points, std::vector<dou
 void SizeField::set_interior_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio) {
     interior_cap_ = cap_of(std::move(points), std::move(sizes), ratio);
 }
+
+void SizeField::set_cap(const SizeCaps& caps, double ratio) { cap_ = cap_of(caps.points, caps.sizes, ratio); }
 
 void SizeField::set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes) {
     MESHD_INTERNAL_CHECK(gradation_.has_value(), "gradation sources without a gradation");

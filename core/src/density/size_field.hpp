@@ -16,6 +16,13 @@
 
 namespace meshd::core {
 
+/// Sizes at points, from which a cap of rho grows (SizeField::set_curve_cap).
+struct SizeCaps {
+    std::vector<Vec2> points;
+    std::vector<double> sizes;
+    bool empty() const { return points.empty(); }
+};
+
 /// rho over a domain. Expressions keep no state, but the pipeline completes the field (eq. 6.1
 /// sources, gradation) as it goes: one per mesh, built by generate_mesh.
 class SizeField {
@@ -46,6 +53,9 @@ public:
     void set_curve_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio);
     /// Caps rho inside (not on the curves) the same way.
     void set_interior_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio);
+    /// Caps rho on the curves and inside the same way (the boundary layers' fans,
+    /// layers/layers.hpp), beside the two caps above.
+    void set_cap(const SizeCaps& caps, double ratio);
 
     double min_size() const { return min_; }
     double max_size() const { return max_; }
@@ -67,6 +77,7 @@ private:
     std::unique_ptr<GradationField> graded_;
     std::unique_ptr<GradationField> curve_cap_;
     std::unique_ptr<GradationField> interior_cap_;
+    std::unique_ptr<GradationField> cap_;
     double min_ = 0.0, max_ = 0.0;
     std::optional<double> gradation_;
 };

@@ -22,9 +22,11 @@ constexpr double kMaxStretch = 3.0;
 /// Columns keep below this share of the distance along their ray to another boundary.
 constexpr double kGapShare = 0.45;
 /// Between facing layers a strip at least this share of the local size stays free.
-constexpr double kStripShare = 0.5;
-/// Neighbouring columns' tops differ by at most this factor in height after a cut-back.
-constexpr double kTopRatio = 2.0;
+constexpr double kStripShare = 1.0;
+/// After a cut-back the layers' outer edge rises from one column's top to the next by at
+/// most this share of the way across (a sawtooth of full and cut columns leaves notches that
+/// no isotropic triangle fills well).
+constexpr double kTopSlope = 0.5;
 /// A sliding column reaches at most this share of the line it slides on.
 constexpr double kSlideShare = 0.3;
 /// A wall end slides along a line that meets it at a domain angle between these (degrees).
@@ -69,6 +71,33 @@ public:
         : domain_(domain), d_(d), rho_(rho), specs_(specs), max_points_(max_points), observer_(observer) {}
 
     GrownLayers run() {
+        grow_columns();
+        return build();
+    }
+
+    LayerPlan plan() {
+        grow_columns();
+        SizeCaps caps;
+        for (Chain& c : chains_) {
+            for (size_t k = 0; k + 1 < c.columns.size(); ++k) {
+                const Column &a = c.columns[k], &b = c.columns[k + 1];
+                if (a.base != b.base || a.n == 0 || b.n == 0) continue;
+                const double gap = distance(level_point(a, a.n), level_point(b, b.n));
+                if (!caps.empty() && caps.points.back() == pt(a.base)) {
+                    caps.sizes.back() = std::min(caps.sizes.back(), gap);
+                } else {
+                    caps.points.push_back(pt(a.base));
+                    caps.sizes.push_back(gap);
+                }
+            }
+        }
+        std::vector<bool> walls(spec_of_.size());
+        for (size_t c = 0; c < walls.size(); ++c) walls[c] = spec_of_[c] >= 0;
+        return {std::move(caps), std::move(walls)};
+    }
+
+private:
+    void grow_columns() {
         resolve_specs();
         heights();
         find_chains();
@@ -88,10 +117,8 @@ public:
         for (Chain& c : chains_) spread(c);
         while (cut_crossings())  // each round checks for cancellation first
             for (Chain& c : chains_) spread(c);
-        return build();
     }
 
-private:
     // Which spec each curve belongs to; refuses names that are no loop curve.
     void resolve_specs() {
         spec_of_.assign(domain_.curves().size(), -1);
@@ -169,6 +196,14 @@ private:
 
     Vec2 pt(VertexId v) const { return d_.point(v); }
 
+    // The wall's turn at vertex i of loop li (radians; < 0: convex, seen from the domain).
+    double turn_at(size_t li, size_t i) const {
+        const auto& L = d_.loops[li];
+        const size_t m = L.size();
+        const Vec2 t0 = unit(pt(L[i]) - pt(L[(i + m - 1) % m])), t1 = unit(pt(L[(i + 1) % m]) - pt(L[i]));
+        return std::atan2(cross(t0, t1), dot(t0, t1));
+    }
+
     void make_columns(Chain& c) {
         const auto& L = d_.loops[c.loop];
         const size_t m = L.size();
@@ -240,12 +275,23 @@ private:
             const int spec = specs_[static_cast<size_t>(spec_in)].first_height <= specs_[static_cast<size_t>(spec_out)].first_height
                                  ? spec_in
                                  : spec_out;
-            const double turn = std::atan2(cross(t0, t1), dot(t0, t1));  // < 0: a convex corner of the wall
+            const double turn = turn_at(c.loop, i);  // < 0: a convex corner of the wall
             const size_t first = c.columns.size();
             if (turn < -kFanTurnDeg * kDeg) {
-                const int sectors = static_cast<int>(std::ceil(-turn / (kFanStepDeg * kDeg)));
+                // Two fans in a row (a blunt trailing edge's short base between them): each
+                // stops half a step short of the shared segment's normal, so that the two
+                // columns on it part like the fans' own instead of standing parallel, their
+                // tops no further apart than the base is long. Lengthened to keep their
+                // layers' heights above it.
+                const double trim = 0.5 * kFanStepDeg * kDeg;
+                const bool trim_in = !(q == 1 && !c.closed) && turn_at(c.loop, (i + m - 1) % m) < -kFanTurnDeg * kDeg;
+                const bool trim_out = !(q + 2 == at.size() && !c.closed) && turn_at(c.loop, (i + 1) % m) < -kFanTurnDeg * kDeg;
+                const double a0 = trim_in ? -trim : 0.0, a1 = trim_out ? turn + trim : turn;
+                const int sectors = static_cast<int>(std::ceil((a0 - a1) / (kFanStepDeg * kDeg)));
                 for (int k = 0; k <= sectors; ++k)
-                    c.columns.emplace_back(v, unit(rotate(n0, turn * k / sectors)), 1.0, spec);
+                    c.columns.emplace_back(v, unit(rotate(n0, a0 + (a1 - a0) * k / sectors)), 1.0, spec);
+                if (trim_in) c.columns[first].stretch = stretch_for(std::cos(trim));
+                if (trim_out) c.columns.back().stretch = stretch_for(std::cos(trim));
             } else {
                 Vec2 dir = unit(n0 + n1);
                 if (norm(dir) == 0.0) dir = n0;
@@ -339,7 +385,9 @@ private:
     }
 
     // 1. Each column's ray (twice its length and more) against the boundary and the other rays.
-    void cut_by_rays() {
+    // `between_rays` false: by the boundary only (the plan, on walls not yet spaced for the
+    // fans, where the rays of a coarse corner's neighbours cross the fan's).
+    void cut_by_rays(bool between_rays = true) {
         detail::SegmentSoup soup;
         soup.points.assign(d_.x.size(), {});
         for (VertexId v = 0; v < d_.size(); ++v) soup.points[v] = pt(v);
@@ -371,10 +419,10 @@ private:
             else x = dot(c - a, b - a) < dot(e - a, b - a) ? c : e;
             if (i < boundary) {
                 // Less than half the gap, and room left between the layers of both sides for
-                // isotropic triangles of about half the local size.
+                // a row of isotropic triangles of the local size.
                 const double t = along(rj, x);
                 cap[rj] = std::min(cap[rj], std::min(kGapShare * t, 0.5 * (t - kStripShare * rho_.interior(x))));
-            } else {
+            } else if (between_rays) {
                 const size_t ri = i - boundary;
                 cap[rj] = std::min(cap[rj], 0.9 * along(rj, x));
                 cap[ri] = std::min(cap[ri], 0.9 * along(ri, x));
@@ -384,18 +432,19 @@ private:
             if (cap[r] < HUGE_VAL) ray_of[r]->n = levels_within(*ray_of[r], std::max(cap[r], 0.0));
     }
 
-    // 2. Neighbouring columns' tops differ by at most a factor kTopRatio in height: as many
-    // layers as growth^k stays within it (at least one).
-    int step_of(const Column& col) const {
-        const double g = specs_[static_cast<size_t>(col.spec)].growth;
-        return g > 1.0 ? std::max(1, static_cast<int>(std::floor(std::log(kTopRatio) / std::log(g) + 1e-9))) : 1;
-    }
+    // 2. The layers' outer edge rises from one column's top to the next by at most kTopSlope
+    // of the way across: fewer layers spread smoothly from a cut-back column, over a distance
+    // that does not depend on how finely the wall is spaced.
     void spread(Chain& c) const {
         auto& cols = c.columns;
         const size_t n = cols.size();
         if (n < 2) return;
         const int rounds = c.closed ? 2 : 1;
-        auto limit = [&](Column& to, const Column& from) { to.n = std::min(to.n, from.n + step_of(to)); };
+        auto limit = [&](Column& to, const Column& from) {
+            const double from_top = from.stretch * level_[static_cast<size_t>(from.spec)][static_cast<size_t>(from.n)];
+            const double across = distance(level_point(to, std::min(to.n, from.n)), level_point(from, from.n));
+            to.n = std::max(std::min(to.n, from.n), levels_within(to, from_top + kTopSlope * across));
+        };
         for (int r = 0; r < rounds; ++r) {
             for (size_t i = 1; i < n + (c.closed ? 1 : 0); ++i) limit(cols[i % n], cols[i - 1]);
             for (size_t i = n - 1; i-- > 0;) limit(cols[i], cols[i + 1]);
@@ -829,6 +878,11 @@ private:
 GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
                         const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer) {
     return Grower(domain, d, rho, specs, max_points, observer).run();
+}
+
+LayerPlan plan_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
+                      const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer) {
+    return Grower(domain, d, rho, specs, max_points, observer).plan();
 }
 
 }  // namespace meshd::core

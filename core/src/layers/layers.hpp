@@ -8,11 +8,14 @@
 // growth^(k-1)). A column stops at `layers`, at `thickness`, or before a layer taller than
 // rho there. A wall that ends on a curve without layers slides its end column along it (or,
 // where the curve goes on almost straight, turns a fan round to it); an embedded curve that
-// leaves a wall takes the nearest column onto it. Then the columns
-// are cut back:
+// leaves a wall takes the nearest column onto it. Two fans in a row (the corners of a blunt
+// trailing edge's short base) part their columns on the segment between them. Then the
+// columns are cut back:
 //   1. along their own ray, to less than half the distance to any other boundary segment,
-//      leaving a strip of half the local size between facing layers;
-//   2. neighbours' tops differ by at most a factor 2 in height (fewer layers spread smoothly);
+//      leaving a strip of the local size between facing layers (a row of isotropic
+//      triangles);
+//   2. the outer edge rises from one column's top to the next by at most half the way
+//      across (fewer layers spread smoothly, whatever the wall's spacing);
 //   3. until no cell is inverted and no edge of the layers crosses another edge of the
 //      layers or of the boundary (exact predicates, the size-class grids of
 //      kernel/crossings.hpp: linear in the number of edges per round).
@@ -58,5 +61,30 @@ struct GrownLayers {
 GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
                         const std::vector<BoundaryLayerSpec>& specs, size_t max_points = 0,
                         Observer* observer = nullptr);
+
+/// The growth per element of the size cap at the fans' corners (fan_corner_sizes): gentler
+/// than the curves' agreement (1.5), as the isotropic triangles meet the fan's short tops
+/// and the walls' columns there at once.
+inline constexpr double kFanCapRatio = 1.25;
+
+/// What the layers of `specs` will do to the discretisation `d`, before it is final.
+struct LayerPlan {
+    /// The corners where the layers fan (convex corners and the fans that turn to a line a
+    /// wall ends on), each with the distance between neighbouring tops of its fan after the
+    /// cut-backs. The fan's columns are short: its tops lie closer together than the wall's
+    /// points nearby. The
+    /// pipeline spaces the walls and the field no coarser than that at the corner (growing
+    /// by kFanCapRatio), so that the layers' outer edge, the front the interior grows from,
+    /// passes from the fan to the wall's columns without a jump in spacing.
+    SizeCaps fans;
+    /// Per curve: layers stand on it (the interior meets their outer edge, not the curve).
+    std::vector<bool> walls;
+};
+
+/// Grows the layers' columns on `d` as grow_layers does (and throws what it throws), without
+/// making their cells.
+LayerPlan plan_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
+                      const std::vector<BoundaryLayerSpec>& specs, size_t max_points = 0,
+                      Observer* observer = nullptr);
 
 }  // namespace meshd::core

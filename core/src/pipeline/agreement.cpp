@@ -23,7 +23,7 @@ constexpr double kMaxProbesPerSegment = 256.0;
 // the curve's own sizes everywhere costs a query per evaluation of a field that is a treecode
 // query already. An expression is the user's field: only its disagreements are capped.
 void set_interior_cap(SizeField& rho, const Discretisation& d, const std::vector<Vec2>& fine,
-                      const std::vector<double>& fine_sizes) {
+                      const std::vector<double>& fine_sizes, double ratio = kAgreementCapRatio) {
     std::vector<Vec2> points = fine;
     std::vector<double> sizes = fine_sizes;
     if (rho.interpolates()) {
@@ -32,7 +32,19 @@ void set_interior_cap(SizeField& rho, const Discretisation& d, const std::vector
             sizes.push_back(d.rho[v]);
         }
     }
-    rho.set_interior_cap(std::move(points), std::move(sizes), kAgreementCapRatio);
+    rho.set_interior_cap(std::move(points), std::move(sizes), ratio);
+}
+
+// The interior field half a segment inside segment ab at `at` (on the domain's side of a loop
+// segment, the smaller of both sides of an embedded one): where the first interior points
+// would go, and far enough from the segment's own ends that eq. 6.1 is not just their length
+// there. NaN where the field is not defined.
+double field_beside(const SizeField& rho, Vec2 a, Vec2 b, bool embedded, Vec2 at) {
+    const double l = distance(a, b);
+    const Vec2 n = perp((b - a) / l);
+    double f = probe_interior(rho, at + (0.5 * l) * n);
+    if (embedded) f = std::fmin(f, probe_interior(rho, at - (0.5 * l) * n));
+    return f;
 }
 
 }  // namespace
@@ -46,7 +58,7 @@ double probe_interior(const SizeField& rho, Vec2 p) {
 }
 
 AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const BoundaryOptions& options,
-                                   Discretisation& d, Observer* observer) {
+                                   Discretisation& d, Observer* observer, const std::vector<bool>& walls) {
     AgreementStats stats;
     std::vector<Vec2> caps, fine;
     std::vector<double> cap_sizes, fine_sizes;
@@ -58,17 +70,11 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
             const Vec2 a = d.point(s.a), b = d.point(s.b);
             const double l = distance(a, b);
             if (!(l > 0.0)) continue;
-            const Vec2 n = perp((b - a) / l);  // the domain's side of a loop segment
             const bool embedded = i >= d.loop_segment_count;
-            // Half a segment inside: where the first interior points would go, and far enough
-            // from the segment's own ends that eq. 6.1 is not just their length there.
-            auto probe = [&](Vec2 at) {
-                double f = probe_interior(rho, at + (0.5 * l) * n);
-                if (embedded) f = std::fmin(f, probe_interior(rho, at - (0.5 * l) * n));
-                return f;
-            };
+            auto probe = [&](Vec2 at) { return field_beside(rho, a, b, embedded, at); };
             const double f = probe(0.5 * (a + b));
             if (f > kAgreementRatio * l) {
+                if (!walls.empty() && s.curve != kNoCurve && walls[s.curve]) continue;
                 // The field too coarse beside a fine segment: capped at its length there.
                 fine.insert(fine.end(), {a, b});
                 fine_sizes.insert(fine_sizes.end(), {l, l});
@@ -101,6 +107,21 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
         set_interior_cap(rho, d, fine, fine_sizes);
     }
     return stats;
+}
+
+void agree_interior_with_front(SizeField& rho, const Discretisation& front) {
+    std::vector<Vec2> fine;
+    std::vector<double> fine_sizes;
+    for (size_t i = 0; i < front.segments.size(); ++i) {
+        const BoundarySegment& s = front.segments[i];
+        const Vec2 a = front.point(s.a), b = front.point(s.b);
+        const double l = distance(a, b);
+        if (!(l > 0.0)) continue;
+        if (!(field_beside(rho, a, b, i >= front.loop_segment_count, 0.5 * (a + b)) > kAgreementRatio * l)) continue;
+        fine.insert(fine.end(), {a, b});
+        fine_sizes.insert(fine_sizes.end(), {l, l});
+    }
+    set_interior_cap(rho, front, fine, fine_sizes, kFrontCapRatio);
 }
 
 }  // namespace meshd::core

@@ -19,6 +19,11 @@ namespace meshd::core {
 inline constexpr double kAgreementRatio = 1.5;
 /// The caps grow by at most this ratio per element away from a probe (gradation cones).
 inline constexpr double kAgreementCapRatio = 1.5;
+/// The interior cap at the boundary layers' outer edge grows more gently (agree_interior_
+/// with_front): the edge's points are fixed, so the first row of interior points cannot
+/// give way there as it does at a curve (at 1.5, NACA sections with layers kept a few
+/// interior points fanning over three short segments of the edge, 29 degrees).
+inline constexpr double kFrontCapRatio = 1.25;
 /// Rounds of probing and placing the curve points again, at most.
 inline constexpr int kAgreementRounds = 4;
 
@@ -38,8 +43,17 @@ double probe_interior(const SizeField& rho, Vec2 p);
 /// few at most, since each changes what the other sees. Sources are only made where the two
 /// disagree, so a mesh whose curves and field agree pays one probe per segment. Throws what
 /// discretise_boundary throws (too many points, Cancelled).
+///
+/// `walls` (per curve, may be empty): curves with boundary layers, whose segments cap no
+/// field: the interior meets the layers' outer edge instead (agree_interior_with_front).
 AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const BoundaryOptions& options,
-                                   Discretisation& d, Observer* observer = nullptr);
+                                   Discretisation& d, Observer* observer = nullptr,
+                                   const std::vector<bool>& walls = {});
 
+/// The interior cap of agree_with_interior made again from `front`, the discretisation the
+/// interior is meshed up to when boundary layers stand on the walls: their outer edge is
+/// spaced like the walls but lies a layer's thickness out, where the field (and under eq.
+/// 6.1 the cones from the walls' points) is already coarser. Replaces the cap from the walls.
+void agree_interior_with_front(SizeField& rho, const Discretisation& front);
 
 }  // namespace meshd::core

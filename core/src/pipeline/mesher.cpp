@@ -171,9 +171,21 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         if (rho.interpolates()) set_interpolation_sources(rho, d);
         walls = triangulate_boundary(d);
     }
+    // Boundary layers' fans: the walls beside them and the field around them no coarser than
+    // the fans' tops are apart (layers.hpp), growing gently away from them.
+    LayerPlan plan;
+    if (!options.boundary_layers.empty()) {
+        plan = plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
+        if (!plan.fans.empty()) {
+            rho.set_cap(plan.fans, kFanCapRatio);
+            d = discretise_boundary(domain, rho, bopt, observer);
+            if (rho.interpolates()) set_interpolation_sources(rho, d);
+            walls = triangulate_boundary(d);
+        }
+    }
     // Curves far coarser than the interior field beside them: spaced again to agree with it.
     if (options.curve_agreement) {
-        r.stats.agreement = agree_with_interior(domain, rho, bopt, d, observer);
+        r.stats.agreement = agree_with_interior(domain, rho, bopt, d, observer, plan.walls);
         if (r.stats.agreement.rounds > 0) walls = triangulate_boundary(d);
     }
     // Refuse before the interior work when the mesh would clearly be too large. Not needed
@@ -195,6 +207,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
                                 {Subject::layers(0)});
         layers = grow_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
         walls = triangulate_boundary(layers->front);
+        if (options.curve_agreement) agree_interior_with_front(rho, layers->front);
     }
     const Discretisation& fixed = layers ? layers->front : d;
     r.timings.boundary_ms = ms_since(t0);
