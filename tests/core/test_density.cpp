@@ -248,6 +248,32 @@ TEST(SizeField, SpecErrors) {
     EXPECT_EQ(size_field_error(spec, d).kind(), GeometryErrorKind::DensityInvalid);
 }
 
+// Below kDirectSources the field is the formula summed in another order: equal to the
+// one-term-at-a-time sum but for rounding, wherever the point; above it, the treecode.
+TEST(InverseDistance, FewSourcesAreSummedTermByTerm) {
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (size_t n : {size_t{1}, size_t{3}, size_t{4}, size_t{7}, size_t{150}, kDirectSources, kDirectSources + 1}) {
+        std::vector<Vec2> a(n);
+        std::vector<double> len(n);
+        for (size_t i = 0; i < n; ++i) {
+            a[i] = {u(rng), u(rng)};
+            len[i] = 0.01 + u(rng);
+        }
+        const InverseDistanceField field(a, len);
+        double worst = 0.0;
+        for (int k = 0; k < 500; ++k) {
+            const Vec2 p{3.0 * u(rng) - 1.0, 3.0 * u(rng) - 1.0};
+            worst = std::fmax(worst, std::fabs(field(p) - field.exact(p)) / field.exact(p));
+        }
+        if (n <= kDirectSources)
+            EXPECT_LE(worst, 1e-12) << n << " sources";
+        else
+            EXPECT_GT(worst, 1e-9) << n << " sources: the treecode";
+        for (size_t i = 0; i < n; i += 1 + n / 7) EXPECT_EQ(field(a[i]), len[i]) << n << " sources, at source " << i;
+    }
+}
+
 TEST(InverseDistance, TreecodeMeetsItsBoundAgainstTheExactFormula) {
     // The paper's Fig. 9 setting: NACA 0012 in a far field, boundary densities per loop.
     const Domain d = build_domain(naca_in_circle("0012", 20.0));
@@ -279,14 +305,16 @@ TEST(InverseDistance, TreecodeMeetsItsBoundAgainstTheExactFormula) {
                 p = {0.5 + rad * std::cos(ang), rad * std::sin(ang)};
             }
             const double exact = field.exact(p);
-            worst = std::fmax(worst, std::fabs(field(p) - exact) / exact);
+            worst = std::fmax(worst, std::fabs(field.treecode(p) - exact) / exact);
         }
         EXPECT_LE(worst, tol) << "tolerance " << tol;
         EXPECT_GT(worst, 0.0);  // the approximation is really used
     }
-    // At a boundary vertex the formula gives that segment's length.
+    // At a boundary vertex the formula gives that segment's length, by either path.
     InverseDistanceField field(starts, lengths);
     EXPECT_DOUBLE_EQ(field(starts[10]), lengths[10]);
+    EXPECT_DOUBLE_EQ(field.treecode(starts[10]), lengths[10]);
+    EXPECT_DOUBLE_EQ(field(starts.back()), lengths.back());  // past the last full pair of pairs
     // Through the size field, after the boundary is known.
     set_interpolation_sources(f, disc);
     const double mid = f.interior({0.5, 0.5});

@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "kernel/kdtree.hpp"
 #include "meshd/core/errors.hpp"
@@ -44,6 +47,12 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
     }
     a_ = std::move(a);
     rho_ = std::move(r);
+    x_.reserve(a_.size());
+    y_.reserve(a_.size());
+    for (const Vec2& v : a_) {
+        x_.push_back(v.x);
+        y_.push_back(v.y);
+    }
     nodes_.reserve(tree.nodes.size());
     for (const detail::KdNode& k : tree.nodes) {
         Node n{};
@@ -70,7 +79,57 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
     }
 }
 
+double InverseDistanceField::direct(Vec2 p) const {
+    const size_t n = x_.size();
+    const double* x = x_.data();
+    const double* y = y_.data();
+    const double* r = rho_.data();
+    double num = 0.0, den = 0.0;
+    size_t i = 0;
+#if defined(__SSE2__)
+    // Two sources per instruction, two independent pairs of sums (the compiler may not
+    // reorder the scalar sums, nor call sqrt without its errno check).
+    const __m128d px = _mm_set1_pd(p.x), py = _mm_set1_pd(p.y), one = _mm_set1_pd(1.0);
+    __m128d num0 = _mm_setzero_pd(), den0 = _mm_setzero_pd(), num1 = _mm_setzero_pd(), den1 = _mm_setzero_pd();
+    __m128d zero = _mm_setzero_pd(), hit = _mm_setzero_pd();
+    for (; i + 4 <= n; i += 4) {
+        const __m128d dx0 = _mm_sub_pd(px, _mm_loadu_pd(x + i)), dy0 = _mm_sub_pd(py, _mm_loadu_pd(y + i));
+        const __m128d dx1 = _mm_sub_pd(px, _mm_loadu_pd(x + i + 2)), dy1 = _mm_sub_pd(py, _mm_loadu_pd(y + i + 2));
+        const __m128d d0 = _mm_add_pd(_mm_mul_pd(dx0, dx0), _mm_mul_pd(dy0, dy0));
+        const __m128d d1 = _mm_add_pd(_mm_mul_pd(dx1, dx1), _mm_mul_pd(dy1, dy1));
+        hit = _mm_or_pd(hit, _mm_or_pd(_mm_cmpeq_pd(d0, zero), _mm_cmpeq_pd(d1, zero)));
+        const __m128d w0 = _mm_div_pd(one, _mm_sqrt_pd(d0)), w1 = _mm_div_pd(one, _mm_sqrt_pd(d1));
+        den0 = _mm_add_pd(den0, w0);
+        den1 = _mm_add_pd(den1, w1);
+        num0 = _mm_add_pd(num0, _mm_mul_pd(_mm_loadu_pd(r + i), w0));
+        num1 = _mm_add_pd(num1, _mm_mul_pd(_mm_loadu_pd(r + i + 2), w1));
+    }
+    if (_mm_movemask_pd(hit) != 0) {
+        for (size_t k = 0; k < i; ++k)
+            if (x[k] == p.x && y[k] == p.y) return r[k];
+    }
+    alignas(16) double lanes[2];
+    _mm_store_pd(lanes, _mm_add_pd(num0, num1));
+    num = lanes[0] + lanes[1];
+    _mm_store_pd(lanes, _mm_add_pd(den0, den1));
+    den = lanes[0] + lanes[1];
+#endif
+    for (; i < n; ++i) {
+        const double dx = p.x - x[i], dy = p.y - y[i];
+        const double d2 = dx * dx + dy * dy;
+        if (d2 == 0.0) return r[i];
+        const double w = 1.0 / std::sqrt(d2);
+        den += w;
+        num += r[i] * w;
+    }
+    return num / den;
+}
+
 double InverseDistanceField::operator()(Vec2 p) const {
+    return x_.size() <= kDirectSources ? direct(p) : treecode(p);
+}
+
+double InverseDistanceField::treecode(Vec2 p) const {
     double num = 0.0, den = 0.0;
     const double* at_source = nullptr;  // p is a source: rho there
     detail::depth_first(nodes_, [&](const Node& n) {

@@ -21,14 +21,24 @@
 
 namespace meshd::core {
 
+/// Up to this many sources eq. 6.1 is summed term by term, two terms per instruction. The
+/// treecode at the tolerance 1e-3 accepts a node only 45 of its radii away, so it costs
+/// about 1 us at 150 sources and 5 us from 1,500 on, the plain sum 1.8 ns per source
+/// (bench/bench_boundary.cpp, BM_InverseDistance, 2026-12-02): they meet near 2,700.
+inline constexpr size_t kDirectSources = 2048;
+
 class InverseDistanceField {
 public:
     /// starts[i] = A_i, values[i] = rho_i > 0. tolerance: bound on the relative error.
     InverseDistanceField(std::vector<Vec2> starts, std::vector<double> values,
                          double tolerance = 1e-3);
 
+    /// rho at p: summed term by term below kDirectSources sources (exact but for rounding,
+    /// and faster there than the tree), else the treecode.
     double operator()(Vec2 p) const;
-    /// The formula summed term by term, O(N): the reference for tests.
+    /// The treecode whatever the number of sources (for its tests and benchmarks).
+    double treecode(Vec2 p) const;
+    /// The formula summed term by term, O(N), one term at a time: the reference for tests.
     double exact(Vec2 p) const;
 
 private:
@@ -39,8 +49,13 @@ private:
         std::uint32_t begin, end;  // source range
         std::uint32_t left, right; // children (0: leaf)
     };
+    // The sum term by term over the sources' coordinates and values in separate arrays
+    // (vectorised); exact.
+    double direct(Vec2 p) const;
+
     std::vector<Vec2> a_;
     std::vector<double> rho_;
+    std::vector<double> x_, y_;  // a_ split, for direct()
     std::vector<Node> nodes_;
     double theta_;  // the opening angle that keeps the relative error within the tolerance
 };

@@ -32,7 +32,7 @@ void set_interior_cap(SizeField& rho, const Discretisation& d, const std::vector
             sizes.push_back(d.rho[v]);
         }
     }
-    rho.set_interior_cap(std::move(points), std::move(sizes), ratio);
+    rho.set_interior_cap(std::move(points), std::move(sizes), rho.interpolates() ? kFrontCapRatio : ratio);
 }
 
 // The interior field half a segment inside segment ab at `at` (on the domain's side of a loop
