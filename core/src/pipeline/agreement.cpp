@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "meshd/core/errors.hpp"
 #include "pipeline/estimate.hpp"
@@ -62,6 +63,7 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
     AgreementStats stats;
     std::vector<Vec2> caps, fine;
     std::vector<double> cap_sizes, fine_sizes;
+    std::map<std::pair<double, double>, double> corner_caps;  // a domain point's cap so far
     set_interior_cap(rho, d, fine, fine_sizes);
     for (int round = 0; round < kAgreementRounds; ++round) {
         const size_t caps_before = caps.size(), fine_before = fine.size();
@@ -94,6 +96,34 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
             // refused before the probes (and their memory) grow further.
             if (options.max_points && caps.size() > options.max_points)
                 refuse_too_many(static_cast<double>(caps.size()), options.max_points);
+        }
+        // Where curves meet at a domain point (a corner, an embedded line leaving a curve),
+        // their first segments within kAgreementRatio of each other: when no interior point
+        // fits in between, the triangle closing the corner is made of the two alone, and its
+        // angles follow their ratio (a spoke's short segment against a circle's long one: 15
+        // degrees).
+        {
+            // (Not where boundary layers stand: the interior meets their outer edge there.)
+            std::vector<double> shortest(d.size(), HUGE_VAL), longest(d.size(), 0.0);
+            for (const BoundarySegment& s : d.segments) {
+                const double l = distance(d.point(s.a), d.point(s.b));
+                const bool wall = !walls.empty() && s.curve != kNoCurve && walls[s.curve];
+                for (const VertexId v : {s.a, s.b}) {
+                    if (wall) longest[v] = -HUGE_VAL;
+                    if (d.curve[v] != kNoCurve || !(l > 0.0) || longest[v] == -HUGE_VAL) continue;
+                    shortest[v] = std::fmin(shortest[v], l);
+                    longest[v] = std::fmax(longest[v], l);
+                }
+            }
+            for (VertexId v = 0; v < d.size(); ++v) {
+                if (!(longest[v] > kAgreementRatio * shortest[v])) continue;
+                const Vec2 p = d.point(v);
+                auto [it, fresh] = corner_caps.try_emplace({p.x, p.y}, shortest[v]);
+                if (!fresh && !(shortest[v] < 0.9 * it->second)) continue;
+                it->second = std::fmin(it->second, shortest[v]);
+                caps.push_back(p);
+                cap_sizes.push_back(shortest[v]);
+            }
         }
         if (caps.size() == caps_before && fine.size() == fine_before) break;
         if (observer && observer->should_stop()) throw Cancelled();

@@ -40,7 +40,10 @@ double probe_interior(const SizeField& rho, Vec2 p);
 /// longer segments further along; a blunt trailing edge's short base under any field), caps
 /// the interior field at the segment's length there (SizeField::set_interior_cap). Both caps
 /// are cones growing by kAgreementCapRatio per element; rounds repeat while either grows, a
-/// few at most, since each changes what the other sees. Sources are only made where the two
+/// few at most, since each changes what the other sees. Where curves meet at a domain point
+/// and their first segments differ by more than kAgreementRatio, the curves are capped at the
+/// shortest of them there too (the triangle that closes such a corner is often made of the
+/// two segments alone). Sources are only made where the two
 /// disagree, so a mesh whose curves and field agree pays one probe per segment. Throws what
 /// discretise_boundary throws (too many points, Cancelled).
 ///
