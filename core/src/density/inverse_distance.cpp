@@ -47,11 +47,13 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
     }
     a_ = std::move(a);
     rho_ = std::move(r);
-    x_.reserve(a_.size());
-    y_.reserve(a_.size());
-    for (const Vec2& v : a_) {
-        x_.push_back(v.x);
-        y_.push_back(v.y);
+    if (a_.size() <= kDirectSources) {
+        x_.reserve(a_.size());
+        y_.reserve(a_.size());
+        for (const Vec2& v : a_) {
+            x_.push_back(v.x);
+            y_.push_back(v.y);
+        }
     }
     nodes_.reserve(tree.nodes.size());
     for (const detail::KdNode& k : tree.nodes) {
@@ -91,7 +93,8 @@ double InverseDistanceField::direct(Vec2 p) const {
     // reorder the scalar sums, nor call sqrt without its errno check).
     const __m128d px = _mm_set1_pd(p.x), py = _mm_set1_pd(p.y), one = _mm_set1_pd(1.0);
     __m128d num0 = _mm_setzero_pd(), den0 = _mm_setzero_pd(), num1 = _mm_setzero_pd(), den1 = _mm_setzero_pd();
-    __m128d zero = _mm_setzero_pd(), hit = _mm_setzero_pd();
+    const __m128d zero = _mm_setzero_pd();
+    __m128d hit = _mm_setzero_pd();
     for (; i + 4 <= n; i += 4) {
         const __m128d dx0 = _mm_sub_pd(px, _mm_loadu_pd(x + i)), dy0 = _mm_sub_pd(py, _mm_loadu_pd(y + i));
         const __m128d dx1 = _mm_sub_pd(px, _mm_loadu_pd(x + i + 2)), dy1 = _mm_sub_pd(py, _mm_loadu_pd(y + i + 2));
@@ -126,7 +129,7 @@ double InverseDistanceField::direct(Vec2 p) const {
 }
 
 double InverseDistanceField::operator()(Vec2 p) const {
-    return x_.size() <= kDirectSources ? direct(p) : treecode(p);
+    return a_.size() <= kDirectSources ? direct(p) : treecode(p);
 }
 
 double InverseDistanceField::treecode(Vec2 p) const {

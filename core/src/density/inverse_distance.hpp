@@ -55,7 +55,7 @@ private:
 
     std::vector<Vec2> a_;
     std::vector<double> rho_;
-    std::vector<double> x_, y_;  // a_ split, for direct()
+    std::vector<double> x_, y_;  // a_ split, for direct(): only up to kDirectSources
     std::vector<Node> nodes_;
     double theta_;  // the opening angle that keeps the relative error within the tolerance
 };

@@ -280,9 +280,9 @@ private:
             if (turn < -kFanTurnDeg * kDeg) {
                 // Two fans in a row (a blunt trailing edge's short base between them): each
                 // stops half a step short of the shared segment's normal, so that the two
-                // columns on it part like the fans' own instead of standing parallel, their
-                // tops no further apart than the base is long. Lengthened to keep their
-                // layers' heights above it.
+                // columns on it part like the fans' own instead of standing parallel with
+                // their tops only the base's length apart. Lengthened to keep their layers'
+                // heights above the base.
                 const double trim = 0.5 * kFanStepDeg * kDeg;
                 const bool trim_in = !(q == 1 && !c.closed) && turn_at(c.loop, (i + m - 1) % m) < -kFanTurnDeg * kDeg;
                 const bool trim_out = !(q + 2 == at.size() && !c.closed) && turn_at(c.loop, (i + 1) % m) < -kFanTurnDeg * kDeg;
@@ -385,9 +385,7 @@ private:
     }
 
     // 1. Each column's ray (twice its length and more) against the boundary and the other rays.
-    // `between_rays` false: by the boundary only (the plan, on walls not yet spaced for the
-    // fans, where the rays of a coarse corner's neighbours cross the fan's).
-    void cut_by_rays(bool between_rays = true) {
+    void cut_by_rays() {
         detail::SegmentSoup soup;
         soup.points.assign(d_.x.size(), {});
         for (VertexId v = 0; v < d_.size(); ++v) soup.points[v] = pt(v);
@@ -422,7 +420,7 @@ private:
                 // a row of isotropic triangles of the local size.
                 const double t = along(rj, x);
                 cap[rj] = std::min(cap[rj], std::min(kGapShare * t, 0.5 * (t - kStripShare * rho_.interior(x))));
-            } else if (between_rays) {
+            } else {
                 const size_t ri = i - boundary;
                 cap[rj] = std::min(cap[rj], 0.9 * along(rj, x));
                 cap[ri] = std::min(cap[ri], 0.9 * along(ri, x));

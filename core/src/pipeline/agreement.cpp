@@ -23,8 +23,10 @@ constexpr double kMaxProbesPerSegment = 256.0;
 // edge to the chord's middle) it is coarser than the curve by a little or a lot; capping it at
 // the curve's own sizes everywhere costs a query per evaluation of a field that is a treecode
 // query already. An expression is the user's field: only its disagreements are capped.
+// Its cones grow by kFrontCapRatio from the layers' outer edge and from the boundary's points
+// under eq. 6.1, by kAgreementCapRatio from the fine segments of an expression's field.
 void set_interior_cap(SizeField& rho, const Discretisation& d, const std::vector<Vec2>& fine,
-                      const std::vector<double>& fine_sizes, double ratio = kAgreementCapRatio) {
+                      const std::vector<double>& fine_sizes, bool layers_edge = false) {
     std::vector<Vec2> points = fine;
     std::vector<double> sizes = fine_sizes;
     if (rho.interpolates()) {
@@ -33,7 +35,8 @@ void set_interior_cap(SizeField& rho, const Discretisation& d, const std::vector
             sizes.push_back(d.rho[v]);
         }
     }
-    rho.set_interior_cap(std::move(points), std::move(sizes), rho.interpolates() ? kFrontCapRatio : ratio);
+    const double ratio = layers_edge || rho.interpolates() ? kFrontCapRatio : kAgreementCapRatio;
+    rho.set_interior_cap(std::move(points), std::move(sizes), ratio);
 }
 
 // The interior field half a segment inside segment ab at `at` (on the domain's side of a loop
@@ -103,20 +106,21 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
         // angles follow their ratio (a spoke's short segment against a circle's long one: 15
         // degrees).
         {
-            // (Not where boundary layers stand: the interior meets their outer edge there.)
+            // Not where boundary layers stand: the interior meets their outer edge there.
             std::vector<double> shortest(d.size(), HUGE_VAL), longest(d.size(), 0.0);
+            std::vector<bool> at_wall(d.size(), false);
             for (const BoundarySegment& s : d.segments) {
                 const double l = distance(d.point(s.a), d.point(s.b));
                 const bool wall = !walls.empty() && s.curve != kNoCurve && walls[s.curve];
                 for (const VertexId v : {s.a, s.b}) {
-                    if (wall) longest[v] = -HUGE_VAL;
-                    if (d.curve[v] != kNoCurve || !(l > 0.0) || longest[v] == -HUGE_VAL) continue;
+                    if (d.curve[v] != kNoCurve || !(l > 0.0)) continue;
+                    at_wall[v] = at_wall[v] || wall;
                     shortest[v] = std::fmin(shortest[v], l);
                     longest[v] = std::fmax(longest[v], l);
                 }
             }
             for (VertexId v = 0; v < d.size(); ++v) {
-                if (!(longest[v] > kAgreementRatio * shortest[v])) continue;
+                if (at_wall[v] || !(longest[v] > kAgreementRatio * shortest[v])) continue;
                 const Vec2 p = d.point(v);
                 auto [it, fresh] = corner_caps.try_emplace({p.x, p.y}, shortest[v]);
                 if (!fresh && !(shortest[v] < 0.9 * it->second)) continue;
@@ -151,7 +155,7 @@ void agree_interior_with_front(SizeField& rho, const Discretisation& front) {
         fine.insert(fine.end(), {a, b});
         fine_sizes.insert(fine_sizes.end(), {l, l});
     }
-    set_interior_cap(rho, front, fine, fine_sizes, kFrontCapRatio);
+    set_interior_cap(rho, front, fine, fine_sizes, true);
 }
 
 }  // namespace meshd::core

@@ -19,10 +19,10 @@ namespace meshd::core {
 inline constexpr double kAgreementRatio = 1.5;
 /// The caps grow by at most this ratio per element away from a probe (gradation cones).
 inline constexpr double kAgreementCapRatio = 1.5;
-/// The interior cap at the boundary layers' outer edge grows more gently (agree_interior_
-/// with_front): the edge's points are fixed, so the first row of interior points cannot
-/// give way there as it does at a curve (at 1.5, NACA sections with layers kept a few
-/// interior points fanning over three short segments of the edge, 29 degrees).
+/// The interior cap grows more gently from the boundary layers' outer edge (agree_interior_
+/// with_front) and, under eq. 6.1, from every boundary point: where the field grows fast
+/// away from fixed points, a first-row interior point may come to stand over three short
+/// segments at once (29 degrees; NACA sections with layers, Fig. 9's leading edge).
 inline constexpr double kFrontCapRatio = 1.25;
 /// Rounds of probing and placing the curve points again, at most.
 inline constexpr int kAgreementRounds = 4;
@@ -39,7 +39,8 @@ double probe_interior(const SizeField& rho, Vec2 p);
 /// finely among coarser ones: an airfoil's leading edge under eq. 6.1, which averages in the
 /// longer segments further along; a blunt trailing edge's short base under any field), caps
 /// the interior field at the segment's length there (SizeField::set_interior_cap). Both caps
-/// are cones growing by kAgreementCapRatio per element; rounds repeat while either grows, a
+/// are cones growing by kAgreementCapRatio per element (the interior's by kFrontCapRatio from
+/// the boundary's points under eq. 6.1); rounds repeat while either grows, a
 /// few at most, since each changes what the other sees. Where curves meet at a domain point
 /// and their first segments differ by more than kAgreementRatio, the curves are capped at the
 /// shortest of them there too (the triangle that closes such a corner is often made of the
