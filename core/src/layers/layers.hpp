@@ -62,7 +62,7 @@ GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const Siz
                         const std::vector<BoundaryLayerSpec>& specs, size_t max_points = 0,
                         Observer* observer = nullptr);
 
-/// The growth per element of the size cap at the fans' corners (fan_corner_sizes): gentler
+/// The growth per element of the size cap at the fans' corners (LayerPlan::fans): gentler
 /// than the curves' agreement (1.5), as the isotropic triangles meet the fan's short tops
 /// and the walls' columns there at once.
 inline constexpr double kFanCapRatio = 1.25;
@@ -72,10 +72,10 @@ struct LayerPlan {
     /// The corners where the layers fan (convex corners and the fans that turn to a line a
     /// wall ends on), each with the distance between neighbouring tops of its fan after the
     /// cut-backs. The fan's columns are short: its tops lie closer together than the wall's
-    /// points nearby. The
-    /// pipeline spaces the walls and the field no coarser than that at the corner (growing
-    /// by kFanCapRatio), so that the layers' outer edge, the front the interior grows from,
-    /// passes from the fan to the wall's columns without a jump in spacing.
+    /// points nearby. The pipeline spaces the walls and the field no coarser than that at
+    /// the corner (growing by kFanCapRatio), so that the layers' outer edge, the front the
+    /// interior grows from, passes from the fan to the wall's columns without a jump in
+    /// spacing.
     SizeCaps fans;
     /// Per curve: layers stand on it (the interior meets their outer edge, not the curve).
     std::vector<bool> walls;

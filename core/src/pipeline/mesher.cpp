@@ -175,6 +175,10 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     // the fans' tops are apart (layers.hpp), growing gently away from them.
     LayerPlan plan;
     if (!options.boundary_layers.empty()) {
+        if (options.order == 2)
+            throw GeometryError(GeometryErrorKind::BadParameter,
+                                "second-order elements with boundary layers are not supported yet",
+                                {Subject::layers(0)});
         plan = plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
         if (!plan.fans.empty()) {
             rho.set_cap(plan.fans, kFanCapRatio);
@@ -201,10 +205,6 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     // Boundary layers: their outer edge takes the walls' place for the stages below.
     std::optional<GrownLayers> layers;
     if (!options.boundary_layers.empty()) {
-        if (options.order == 2)
-            throw GeometryError(GeometryErrorKind::BadParameter,
-                                "second-order elements with boundary layers are not supported yet",
-                                {Subject::layers(0)});
         layers = grow_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
         walls = triangulate_boundary(layers->front);
         if (options.curve_agreement) agree_interior_with_front(rho, layers->front);
