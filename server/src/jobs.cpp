@@ -393,7 +393,8 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const size_t bytes = result ? api::result_bytes(*result) : 0;
     nlohmann::ordered_json metrics = result ? nlohmann::ordered_json::parse(api::metrics_json(*result)) : nullptr;
-    {
+    // The outcome, seen by readers of the job from here on.
+    auto publish = [&] {
         std::lock_guard<std::mutex> lock(job->m);
         job->status = status;
         job->stage = to_string(status);
@@ -403,7 +404,8 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
         job->error = error;
         job->result_bytes = bytes;
         job->finished = std::chrono::system_clock::now();
-    }
+    };
+    if (job->on_finish) publish();
     spdlog::info("job {} {} points={} triangles={} time_ms={:.1f}{}", job->id, to_string(status),
                  result ? result->quality.points : 0, result ? result->quality.triangles : 0, secs * 1000.0,
                  error ? " problem=" + error->type : std::string());
@@ -430,8 +432,11 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
     metrics_.job_finished(to_string(status), secs, points, triangles);
     {
         // The store knows the finished job before anyone waiting on it wakes (a synchronous
-        // request forgets its job at once).
+        // request forgets its job at once), and as soon as its outcome can be read: a reader
+        // who sees it finished finds it among the finished records, bounded with them (m_
+        // before job->m, as housekeeping takes them).
         std::lock_guard<std::mutex> lock(m_);
+        publish();
         result_bytes_ += bytes;
         finished_order_.push_back(job);
         leave_owner_share_locked(*job);
