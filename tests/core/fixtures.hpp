@@ -10,6 +10,8 @@
 
 #include "meshd/core/density.hpp"
 #include "meshd/core/domain.hpp"
+#include "meshd/core/mesh.hpp"
+#include "geometry/curve.hpp"
 #include "triangulation/triangulation.hpp"
 
 namespace meshd::test {
@@ -118,6 +120,40 @@ inline core::Mesh mesh_of(const std::vector<Vec2>& pts, size_t holes, const core
     for (const core::Constraint& c : cons) m.edges.push_back({c.a, c.b, 0, core::kNoCurve, !c.loop});
     m.holes = holes;
     return m;
+}
+
+/// What smoothing may do to the points that are not interior, `smoothed` against `raw` (the
+/// same request without smoothing): corners and boundary-layer points stay; points on curves
+/// may slide along their curve but stay on it, at their parameter, and between their
+/// neighbours there (every curve edge runs in the same direction of the parameter as before).
+/// Returns what is violated (empty when all holds); `moved` gets how many points slid.
+inline std::vector<std::string> fixed_points_kept(const core::Domain& domain, const core::Mesh& smoothed,
+                                                  const core::Mesh& raw, size_t* moved = nullptr) {
+    using core::PointKind;
+    std::vector<std::string> broken;
+    if (smoothed.point_count() != raw.point_count()) return {"point counts differ"};
+    const double tol = 1e-12 * domain.extent();
+    size_t slid = 0;
+    for (size_t v = 0; v < raw.point_count(); ++v) {
+        if (raw.kind[v] == PointKind::Interior) continue;
+        const bool same = smoothed.x[v] == raw.x[v] && smoothed.y[v] == raw.y[v];
+        if (raw.kind[v] == PointKind::Boundary || raw.kind[v] == PointKind::Embedded) {
+            const core::Curve& g = *domain.curves()[smoothed.curve[v]].geometry;
+            if (distance(g.point(smoothed.param[v]), smoothed.point(static_cast<core::VertexId>(v))) > tol)
+                broken.push_back("point " + std::to_string(v) + " is off its curve");
+            slid += same ? 0 : 1;
+        } else if (!same) {
+            broken.push_back("point " + std::to_string(v) + " (a corner or a layer's) moved");
+        }
+    }
+    for (const core::MeshEdge& e : raw.edges) {
+        if (raw.curve[e.a] != e.curve || raw.curve[e.b] != e.curve) continue;
+        const double before = raw.param[e.b] - raw.param[e.a], after = smoothed.param[e.b] - smoothed.param[e.a];
+        if ((before > 0) != (after > 0) || after == 0)
+            broken.push_back("edge " + std::to_string(e.a) + "-" + std::to_string(e.b) + " turned along its curve");
+    }
+    if (moved) *moved = slid;
+    return broken;
 }
 
 }  // namespace meshd::test

@@ -20,12 +20,14 @@
 #include "improve/smooth.hpp"
 #include "kernel/predicates.hpp"
 #include "improve/quality.hpp"
+#include "geometry/curve.hpp"
 
 namespace meshd::core {
 
 namespace {
 
 using detail::next3;
+using detail::prev3;
 using detail::TriangleSoup;
 
 // A move shorter than this fraction of the root mean square spoke is not made: the point
@@ -34,6 +36,9 @@ constexpr double kSettled = 0.02;
 // Triangles with an angle below this (degrees) get their interior corners optimised.
 constexpr double kRepairAngle = 34.0;
 constexpr int kRepairRounds = 3;
+// Points on curves slide along them only for triangles still below this after the interior
+// corners were placed: the curves keep the paper's placement wherever it already gives this.
+constexpr double kSlideAngle = 30.0;
 
 // Smallest angle of a counter-clockwise triangle, in radians; -1 when it is not
 // counter-clockwise.
@@ -56,8 +61,8 @@ double shape(Vec2 a, Vec2 b, Vec2 c) {
 
 class Smoother {
 public:
-    Smoother(Mesh& m, Observer* observer)
-        : m_(m), observer_(observer), pts_(points_of(m)), soup_(pts_, m.triangles, true) {
+    Smoother(Mesh& m, const Domain* domain, Observer* observer)
+        : m_(m), domain_(domain), observer_(observer), pts_(points_of(m)), soup_(pts_, m.triangles, true) {
         detail::assign_huge(quality_, m.triangles.size(), 0.0);
         for (TriangleId t = 0; t < m.triangles.size(); ++t) update_quality(t);
         detail::assign_huge(seen_, m.triangles.size(), std::uint32_t{0});
@@ -128,13 +133,14 @@ public:
         std::vector<TriangleId> suspects(m_.triangles.size());
         for (TriangleId t = 0; t < suspects.size(); ++t) suspects[t] = t;
         std::uint64_t total = 0;
+        std::vector<std::uint32_t> moved;
         for (int round = 0; round < kRepairRounds && !suspects.empty(); ++round) {
-            const std::vector<std::uint32_t> moved = repair_round(suspects);
+            repair_round(suspects, moved);
             total += moved.size();
             ++stamp_;
             suspects.clear();
             for (const std::uint32_t v : moved) {
-                if (!walk_star(v)) continue;
+                if (!walk_star(v, false)) continue;
                 for (const TriangleId t : star_)
                     if (seen_[t] != stamp_) {
                         seen_[t] = stamp_;
@@ -153,15 +159,17 @@ private:
         return pts;
     }
 
-    // One round of repair() over the given triangles; returns the corners that moved.
-    std::vector<std::uint32_t> repair_round(const std::vector<TriangleId>& suspects) {
-        std::vector<std::uint32_t> corners, moved;
-        const double cot_limit = 1.0 / std::tan(kRepairAngle * std::numbers::pi / 180.0);
+    // One round of repair() over the given triangles; `moved` gets the corners that moved.
+    void repair_round(const std::vector<TriangleId>& suspects, std::vector<std::uint32_t>& moved) {
+        moved.clear();
+        std::vector<std::uint32_t> corners;
+        std::vector<TriangleId> fixed, still;
         for (const TriangleId t : suspects) {
-            const Triangle& T = m_.triangles[t];
-            if (smallest_angle_cot(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]).cot <= cot_limit) continue;
-            for (const auto v : T.v)
+            if (!bad(t)) continue;
+            const size_t before = corners.size();
+            for (const auto v : m_.triangles[t].v)
                 if (m_.kind[v] == PointKind::Interior) corners.push_back(v);
+            if (corners.size() == before) fixed.push_back(t);
         }
         std::sort(corners.begin(), corners.end());
         corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
@@ -170,7 +178,154 @@ private:
             moved.push_back(v);
             restore_delaunay_around(v);
         }
-        return moved;
+        // Triangles of fixed points only (where curves meet at a wide angle, a short curve
+        // beside a coarser one): none of their corners may move, so the interior point across
+        // their longest edge is offered the edge's other diagonal.
+        for (const TriangleId t : fixed) {
+            if (!bad(t)) continue;  // an earlier move or flip may have mended it
+            const std::uint32_t v = open_up(t);
+            if (v == kNoVertex) continue;
+            moved.push_back(v);
+            restore_delaunay_around(v);
+        }
+        // Last, the points on curves of triangles still below kSlideAngle slide along them.
+        if (domain_ == nullptr) return;
+        corners.clear();
+        for (const TriangleId t : suspects) {
+            if (!bad(t, kSlideAngle)) continue;
+            for (const auto v : m_.triangles[t].v)
+                if (m_.kind[v] == PointKind::Boundary || m_.kind[v] == PointKind::Embedded) corners.push_back(v);
+        }
+        std::sort(corners.begin(), corners.end());
+        corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+        for (const std::uint32_t v : corners) {
+            if (!slide(v)) continue;
+            moved.push_back(v);
+            restore_delaunay_around(v);
+        }
+    }
+
+    // The parameter on curve c of w, a neighbour along it of a point of c: its own, or for
+    // the corner at an end of c (or at a corner of c's geometry) that end's; NaN for
+    // anything else (a boundary layer's top standing on c).
+    double param_on(CurveId c, std::uint32_t w) const {
+        if (m_.curve[w] == c) return m_.param[w];
+        if (m_.kind[w] != PointKind::Corner) return std::nan("");
+        const Curve& g = *domain_->curves()[c].geometry;
+        std::vector<double> ts = g.corners();
+        ts.push_back(g.t_begin());
+        ts.push_back(g.t_end());
+        double best = std::nan(""), nearest = HUGE_VAL;
+        for (const double t : ts) {
+            const double d = distance(g.point(t), pts_[w]);
+            if (d < nearest) {
+                nearest = d;
+                best = t;
+            }
+        }
+        return best;
+    }
+
+    // Moves point v of a curve along it, between its two neighbours on the curve, to where
+    // the smallest angle of its star is largest (a pattern search in the parameter). Points
+    // at a corner of their curve's geometry stay. True when v moved.
+    bool slide(std::uint32_t v) {
+        const CurveId c = m_.curve[v];
+        if (c == kNoCurve || !walk_star(v, false)) return false;
+        const Curve& g = *domain_->curves()[c].geometry;
+        const double t0 = m_.param[v];
+        const double span = g.t_end() - g.t_begin();
+        for (const double k : g.corners())
+            if (std::abs(k - t0) <= 1e-9 * std::abs(span)) return false;
+        // The neighbours along the curve: the other ends of v's constrained edges.
+        double lo = -HUGE_VAL, hi = HUGE_VAL;
+        int ends = 0;
+        for (const TriangleId t : star_) {
+            const Triangle& T = m_.triangles[t];
+            const std::uint32_t k = TriangleSoup::index_of(T, v);
+            for (const std::uint32_t i : {next3(k), prev3(k)}) {
+                if (!edge_bit(T.constrained, i)) continue;
+                const std::uint32_t w = T.v[i == next3(k) ? prev3(k) : next3(k)];
+                const double tw = param_on(c, w);
+                if (std::isnan(tw)) return false;
+                if (tw < t0) lo = std::max(lo, tw);
+                else if (tw > t0) hi = std::min(hi, tw);
+                ++ends;
+            }
+        }
+        if (ends == 0 || !(lo < t0 && t0 < hi) || !std::isfinite(lo) || !std::isfinite(hi)) return false;
+        const double start = star_min_angle();
+        const Vec2 old = pts_[v];
+        double best = start, t = t0, h = 0.25 * std::min(t0 - lo, hi - t0);
+        for (int iter = 0; iter < 40 && h > 1e-4 * (hi - lo); ++iter) {
+            double best_t = t;
+            for (const double d : {-h, h}) {
+                const double s = t + d;
+                if (s <= lo || s >= hi) continue;
+                pts_[v] = g.point(s);
+                const double f = star_min_angle();
+                if (f > best) {
+                    best = f;
+                    best_t = s;
+                }
+            }
+            if (best_t == t) h *= 0.5;
+            t = best_t;
+        }
+        if (!(best > start)) {
+            pts_[v] = old;
+            return false;
+        }
+        pts_[v] = g.point(t);
+        m_.param[v] = t;
+        for (const TriangleId s : star_) update_quality(s);
+        return true;
+    }
+
+    // True when t has an angle below `degrees`.
+    bool bad(TriangleId t, double degrees = kRepairAngle) const {
+        const double cot_limit = 1.0 / std::tan(degrees * std::numbers::pi / 180.0);
+        const Triangle& T = m_.triangles[t];
+        return smallest_angle_cot(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]).cot > cot_limit;
+    }
+
+    // Triangle t = (a, b, c) has no interior corner; across its longest edge b-c lies the
+    // triangle (c, b, x). When x is an interior point and the quad a, b, x, c is convex, the
+    // edge becomes a-x and x is placed for the largest smallest angle of its new star. Kept
+    // when that beats the smallest angle of t and of x's old star (then the Delaunay flips
+    // that follow keep a-x too: for one quad they choose the diagonal with the larger
+    // smallest angle). Returns x, or kNoVertex when nothing changed.
+    std::uint32_t open_up(TriangleId t) {
+        const Triangle& T = m_.triangles[t];
+        std::uint32_t i = 0;
+        double longest = -1.0;
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            const double l = norm2(pts_[T.v[next3(k)]] - pts_[T.v[prev3(k)]]);
+            if (l > longest) {
+                longest = l;
+                i = k;
+            }
+        }
+        const TriangleId u = T.n[i];
+        if (soup_.constrained(t, i) || u == kNoTriangle) return kNoVertex;
+        const std::uint32_t x = m_.triangles[u].v[soup_.back_index(u, t)];
+        if (m_.kind[x] != PointKind::Interior || !walk_star(x)) return kNoVertex;
+        const Vec2 a = pts_[T.v[i]], b = pts_[T.v[next3(i)]], c = pts_[T.v[prev3(i)]];
+        const Vec2 old = pts_[x];
+        if (orient2d(a, b, old) != Orientation::Left || orient2d(a, old, c) != Orientation::Left) return kNoVertex;
+        const double before = std::min(star_min_angle(), min_angle(a, b, c));
+        soup_.flip(t, i);  // t = (a, b, x), u = (a, x, c)
+        optimise(x);
+        if (walk_star(x) && star_min_angle() > before) {
+            ++flips_;
+            for (const TriangleId s : star_) update_quality(s);
+            return x;
+        }
+        pts_[x] = old;
+        soup_.flip(t, 1);  // back to (c, b, x) and (a, b, c)
+        update_quality(t);
+        update_quality(u);
+        return kNoVertex;
     }
 
     void update_quality(TriangleId t) {
@@ -180,13 +335,15 @@ private:
 
     // The triangles around interior point v into star_; false when the fan is not closed
     // (then v is not an interior point) or unusually large.
-    bool walk_star(std::uint32_t v) {
+    // With `closed` false the fan may be open (v on a loop).
+    bool walk_star(std::uint32_t v, bool closed = true) {
         star_.clear();
         soup_.around(v, [&](TriangleId t) {
             star_.push_back(t);
             return star_.size() > 64;
         });
         if (star_.empty() || star_.size() > 64) return false;
+        if (!closed) return true;
         const Triangle& last = m_.triangles[star_.back()];
         return last.n[next3(TriangleSoup::index_of(last, v))] == star_.front();
     }
@@ -302,13 +459,14 @@ private:
     // The edges of the star of v and those opposite v.
     void restore_delaunay_around(std::uint32_t v) {
         queue_.clear();
-        if (!walk_star(v)) return;
+        if (!walk_star(v, false)) return;
         for (const TriangleId t : star_)
             for (std::uint32_t i = 0; i < 3; ++i) queue_.emplace_back(t, i);
         legalize_queue();
     }
 
     Mesh& m_;
+    const Domain* domain_;
     Observer* observer_;
     std::vector<Vec2> pts_;
     TriangleSoup soup_;
@@ -324,9 +482,9 @@ private:
 
 }  // namespace
 
-std::uint64_t smooth(Mesh& m, int iterations, std::uint64_t* flips, Observer* observer) {
+std::uint64_t smooth(Mesh& m, int iterations, const Domain* domain, std::uint64_t* flips, Observer* observer) {
     if (iterations <= 0 || m.triangles.empty()) return 0;
-    Smoother s(m, observer);
+    Smoother s(m, domain, observer);
     std::uint64_t moves = s.sweeps(iterations);
     if (observer) {
         if (observer->should_stop()) throw Cancelled();

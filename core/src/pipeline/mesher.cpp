@@ -258,7 +258,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     begin(Stage::Smoothing);
     t0 = Clock::now();
     if (options.smoothing_iterations > 0)
-        r.stats.smoothing_moves = smooth(m, options.smoothing_iterations, &r.stats.smoothing_flips, observer);
+        r.stats.smoothing_moves = smooth(m, options.smoothing_iterations, &domain, &r.stats.smoothing_flips, observer);
     if (options.min_angle_deg > 0.0)
         r.stats.refinement_points =
             refine_min_angle(m, domain, rho, options.min_angle_deg, options.max_points, observer);
