@@ -21,11 +21,11 @@
 
 namespace meshd::core {
 
-/// Up to this many sources eq. 6.1 is summed term by term, two terms per instruction. The
+/// Up to this many sources eq. 6.1 is summed term by term, four terms per instruction. The
 /// treecode at the tolerance 1e-3 accepts a node only 45 of its radii away, so it costs
-/// about 1 us at 150 sources and 5 us from 1,500 on, the plain sum 1.8 ns per source
-/// (bench/bench_boundary.cpp, BM_InverseDistance, 2026-12-02): they meet near 2,700.
-inline constexpr size_t kDirectSources = 2048;
+/// about 1 us at 150 sources and 5 us from 1,500 on, the plain sum 0.86 ns per source
+/// (bench/bench_boundary.cpp, BM_InverseDistance, 2026-12-02): they meet near 5,800.
+inline constexpr size_t kDirectSources = 4096;
 
 class InverseDistanceField {
 public:
@@ -33,8 +33,9 @@ public:
     InverseDistanceField(std::vector<Vec2> starts, std::vector<double> values,
                          double tolerance = 1e-3);
 
-    /// rho at p: summed term by term below kDirectSources sources (exact but for rounding,
-    /// and faster there than the tree), else the treecode.
+    /// rho at p: summed term by term below kDirectSources sources (the weights 1/d_i in
+    /// single precision, the sums in double: within 4e-7 of the exact value, and faster there
+    /// than the tree), else the treecode.
     double operator()(Vec2 p) const;
     /// The treecode whatever the number of sources (for its tests and benchmarks).
     double treecode(Vec2 p) const;
@@ -50,7 +51,7 @@ private:
         std::uint32_t left, right; // children (0: leaf)
     };
     // The sum term by term over the sources' coordinates and values in separate arrays
-    // (vectorised); exact.
+    // (vectorised; single-precision weights).
     double direct(Vec2 p) const;
 
     std::vector<Vec2> a_;
