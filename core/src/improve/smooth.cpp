@@ -163,7 +163,7 @@ private:
     void repair_round(const std::vector<TriangleId>& suspects, std::vector<std::uint32_t>& moved) {
         moved.clear();
         std::vector<std::uint32_t> corners;
-        std::vector<TriangleId> fixed, still;
+        std::vector<TriangleId> fixed;
         for (const TriangleId t : suspects) {
             if (!bad(t)) continue;
             const size_t before = corners.size();
@@ -324,7 +324,8 @@ private:
         pts_[x] = old;
         soup_.flip(t, 1);  // back to (c, b, x) and (a, b, c)
         update_quality(t);
-        update_quality(u);
+        if (walk_star(x))
+            for (const TriangleId s : star_) update_quality(s);
         return kNoVertex;
     }
 
