@@ -171,13 +171,18 @@ private:
                 if (m_.kind[v] == PointKind::Interior) corners.push_back(v);
             if (corners.size() == before) fixed.push_back(t);
         }
-        std::sort(corners.begin(), corners.end());
-        corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-        for (const std::uint32_t v : corners) {
-            if (!optimise(v)) continue;
-            moved.push_back(v);
-            restore_delaunay_around(v);
-        }
+        // Each corner once, moved by `move`; those that moved are recorded and their stars
+        // made Delaunay again.
+        auto move_each = [&](auto&& move) {
+            std::sort(corners.begin(), corners.end());
+            corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+            for (const std::uint32_t v : corners) {
+                if (!move(v)) continue;
+                moved.push_back(v);
+                restore_delaunay_around(v);
+            }
+        };
+        move_each([&](std::uint32_t v) { return optimise(v); });
         // Triangles of fixed points only (where curves meet at a wide angle, a short curve
         // beside a coarser one): none of their corners may move, so the interior point across
         // their longest edge is offered the edge's other diagonal.
@@ -196,13 +201,7 @@ private:
             for (const auto v : m_.triangles[t].v)
                 if (m_.kind[v] == PointKind::Boundary || m_.kind[v] == PointKind::Embedded) corners.push_back(v);
         }
-        std::sort(corners.begin(), corners.end());
-        corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-        for (const std::uint32_t v : corners) {
-            if (!slide(v)) continue;
-            moved.push_back(v);
-            restore_delaunay_around(v);
-        }
+        move_each([&](std::uint32_t v) { return slide(v); });
     }
 
     // The parameter on curve c of w, a neighbour along it of a point of c: its own, or for
