@@ -96,7 +96,7 @@ double InverseDistanceField::direct(Vec2 p) const {
     // bound by it); each weight 1/d is then within 3 float roundings (2e-7) of its exact
     // value, so the ratio is within 4e-7, and the sums stay double. A squared distance
     // outside the floats' normal range (a query on a source, or absurdly far) sends the
-    // query to the double loop below.
+    // query to exact(), in double.
     const __m128d px = _mm_set1_pd(p.x), py = _mm_set1_pd(p.y);
     const __m128 one = _mm_set1_ps(1.0f), low = _mm_set1_ps(std::numeric_limits<float>::min()),
                  high = _mm_set1_ps(std::numeric_limits<float>::max());
