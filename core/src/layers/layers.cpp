@@ -67,8 +67,9 @@ struct Chain {
 class Grower {
 public:
     Grower(const Domain& domain, const Discretisation& d, const SizeField& rho,
-           const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer)
-        : domain_(domain), d_(d), rho_(rho), specs_(specs), max_points_(max_points), observer_(observer) {}
+           const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer,
+           const LayerPlan* plan = nullptr)
+        : domain_(domain), d_(d), rho_(rho), specs_(specs), max_points_(max_points), observer_(observer), plan_(plan) {}
 
     GrownLayers run() {
         grow_columns();
@@ -78,22 +79,26 @@ public:
     LayerPlan plan() {
         grow_columns();
         SizeCaps caps;
+        std::vector<double> heights;
         for (Chain& c : chains_) {
             for (size_t k = 0; k + 1 < c.columns.size(); ++k) {
                 const Column &a = c.columns[k], &b = c.columns[k + 1];
                 if (a.base != b.base || a.n == 0 || b.n == 0) continue;
                 const double gap = distance(level_point(a, a.n), level_point(b, b.n));
+                const double tall = std::max(top(a), top(b));
                 if (!caps.empty() && caps.points.back() == pt(a.base)) {
                     caps.sizes.back() = std::min(caps.sizes.back(), gap);
+                    heights.back() = std::max(heights.back(), tall);
                 } else {
                     caps.points.push_back(pt(a.base));
                     caps.sizes.push_back(gap);
+                    heights.push_back(tall);
                 }
             }
         }
         std::vector<bool> walls(spec_of_.size());
         for (size_t c = 0; c < walls.size(); ++c) walls[c] = spec_of_[c] >= 0;
-        return {std::move(caps), std::move(walls)};
+        return {std::move(caps), std::move(heights), std::move(walls)};
     }
 
 private:
@@ -108,6 +113,7 @@ private:
                 col.n = col.want = wanted(col);
                 points += col.n;
             }
+        if (plan_) hold_fans_to_plan();
         if (max_points_ && points > static_cast<double>(max_points_))
             throw GeometryError(K::TooManyPoints,
                                 "the boundary layers alone would make " + std::to_string(static_cast<size_t>(points)) +
@@ -117,6 +123,28 @@ private:
         for (Chain& c : chains_) spread(c);
         while (cut_crossings())  // each round checks for cancellation first
             for (Chain& c : chains_) spread(c);
+    }
+
+    // The height of col's top above its base, along the column.
+    double top(const Column& col) const {
+        return col.stretch * level_[static_cast<size_t>(col.spec)][static_cast<size_t>(col.n)];
+    }
+
+    // The columns of each fan of the plan no taller than kFanCapRatio times its tallest there
+    // (the fans are found by their corner points, which the discretisations share).
+    void hold_fans_to_plan() {
+        const SizeCaps& fans = plan_->fans;
+        for (Chain& c : chains_)
+            for (size_t k = 0; k < c.columns.size(); ++k) {
+                Column& col = c.columns[k];
+                const bool fan = (k > 0 && c.columns[k - 1].base == col.base) ||
+                                 (k + 1 < c.columns.size() && c.columns[k + 1].base == col.base);
+                if (!fan) continue;
+                const auto at = std::find(fans.points.begin(), fans.points.end(), pt(col.base));
+                if (at == fans.points.end()) continue;
+                const double planned = plan_->fan_heights[static_cast<size_t>(at - fans.points.begin())];
+                col.n = levels_within(col, kFanCapRatio * planned);
+            }
     }
 
     // Which spec each curve belongs to; refuses names that are no loop curve.
@@ -863,6 +891,7 @@ private:
     const std::vector<BoundaryLayerSpec>& specs_;
     size_t max_points_;
     Observer* observer_;
+    const LayerPlan* plan_;
     std::vector<int> spec_of_;
     std::vector<size_t> loop_offsets_;  // per loop, the index of its first segment
     std::vector<std::vector<double>> level_;
@@ -874,8 +903,9 @@ private:
 }  // namespace
 
 GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
-                        const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer) {
-    return Grower(domain, d, rho, specs, max_points, observer).run();
+                        const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer,
+                        const LayerPlan* plan) {
+    return Grower(domain, d, rho, specs, max_points, observer, plan).run();
 }
 
 LayerPlan plan_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,

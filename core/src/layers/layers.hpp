@@ -55,12 +55,15 @@ struct GrownLayers {
     std::vector<QualityMetrics::Layers> figures;  ///< per BoundaryLayerSpec
 };
 
+struct LayerPlan;
+
 /// Grows the layers of `specs` on the discretisation `d`. Throws GeometryError when a spec
 /// names no loop curve or the layers would pass max_points points (0: no limit), or
-/// Cancelled.
+/// Cancelled. With `plan` (plan_layers on an earlier discretisation, whose fans spaced `d`
+/// and `rho`), no fan stands more than kFanCapRatio times as tall as planned.
 GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
                         const std::vector<BoundaryLayerSpec>& specs, size_t max_points = 0,
-                        Observer* observer = nullptr);
+                        Observer* observer = nullptr, const LayerPlan* plan = nullptr);
 
 /// The growth per element of the size cap at the fans' corners (LayerPlan::fans): gentler
 /// than the curves' agreement (1.5), as the isotropic triangles meet the fan's short tops
@@ -77,6 +80,11 @@ struct LayerPlan {
     /// interior grows from, passes from the fan to the wall's columns without a jump in
     /// spacing.
     SizeCaps fans;
+    /// Per entry of `fans`: the height of its tallest column. The fan's tops lie apart in
+    /// proportion to it; a fan that grew taller on the final walls (where the caps made rho
+    /// smaller in a gap its columns face, so that they are cut back less) would stand its
+    /// tops farther apart than the walls were spaced for.
+    std::vector<double> fan_heights;
     /// Per curve: layers stand on it (the interior meets their outer edge, not the curve).
     std::vector<bool> walls;
 };

@@ -205,7 +205,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     // Boundary layers: their outer edge takes the walls' place for the stages below.
     std::optional<GrownLayers> layers;
     if (!options.boundary_layers.empty()) {
-        layers = grow_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
+        layers = grow_layers(domain, d, rho, options.boundary_layers, options.max_points, observer, &plan);
         walls = triangulate_boundary(layers->front);
         if (options.curve_agreement) agree_interior_with_front(rho, layers->front);
     }
