@@ -293,3 +293,50 @@ TEST(RandomDomains, NoAngleBelowThirtyDegreesButTheDomainsOwn) {
     EXPECT_GE(worst, 30.0) << "seed " << worst_seed << " (" << random_case(worst_seed).summary << ")";
     EXPECT_GT(slid, 0u);
 }
+
+// The same domains with boundary layers on their holes, their spline outer loop or the lines'
+// inlet side (whichever of those tags the domain has; a random first height from 1e-5 to 1e-3
+// of the domain, growth 1.1 to 1.3, 5 to 30 layers): every mesh must be valid (quads convex
+// and conforming, cells counted in the Euler characteristic) or the request refused clearly.
+TEST(RandomDomains, WithBoundaryLayersEveryMeshIsValidOrTheRequestIsRefusedClearly) {
+    std::uint64_t meshed = 0, refused = 0;
+    for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+        const RandomCase rc = random_case(seed);
+        BoundaryLayerSpec spec;
+        for (const std::string tag : {"hole", "wall", "inlet"}) {
+            const bool present = std::any_of(rc.domain.curves.begin(), rc.domain.curves.end(), [&](const CurveSpec& c) {
+                return c.tag == tag && std::find(rc.domain.embedded.begin(), rc.domain.embedded.end(), c.name) ==
+                                           rc.domain.embedded.end();
+            });
+            if (present) spec.curves.push_back(tag);
+        }
+        if (spec.curves.empty()) continue;
+        std::mt19937_64 rng(seed);
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        const Domain domain = build_domain(rc.domain);
+        spec.first_height = domain.extent() * std::pow(10.0, -5.0 + 2.0 * u(rng));
+        spec.growth = 1.1 + 0.2 * u(rng);
+        spec.layers = 5 + static_cast<int>(u(rng) * 26);
+        spec.quads = seed % 4 != 0;
+        MeshOptions o;
+        o.max_points = 400000;
+        o.boundary_layers = {spec};
+        if (seed % 5 == 1) o.triangulator = Triangulator::AdvancingFront;
+        try {
+            const MeshResult r = generate_mesh(domain, rc.density, o);
+            const auto broken = check_mesh(r.mesh, false);
+            if (!broken.empty()) ADD_FAILURE() << "seed " << seed << " (" << rc.summary << "): " << broken.front();
+            EXPECT_GT(r.mesh.quads.size() + r.quality.boundary_layers.front().columns, 0u) << "seed " << seed;
+            ++meshed;
+        } catch (const GeometryError& e) {
+            ++refused;
+            std::printf("[ seed %llu ] refused: %s (%s)\n", static_cast<unsigned long long>(seed), e.what(),
+                        rc.summary.c_str());
+        } catch (const std::exception& e) {
+            ADD_FAILURE() << "seed " << seed << " (" << rc.summary << "): " << e.what();
+        }
+    }
+    std::printf("[ random domains with layers ] %llu meshed, %llu refused\n", static_cast<unsigned long long>(meshed),
+                static_cast<unsigned long long>(refused));
+    EXPECT_GE(meshed, 150u);
+}
