@@ -423,7 +423,7 @@ private:
         for (Chain& c : chains_) {
             for (Column& col : c.columns) {
                 if (col.n == 0 || col.slide != kNoCurve) continue;
-                const double reach = 2.5 * col.stretch * level_[static_cast<size_t>(col.spec)][static_cast<size_t>(col.n)];
+                const double reach = 2.5 * top(col);
                 soup.points.push_back(pt(col.base) + reach * col.dir);
                 soup.segments.push_back({col.base, static_cast<std::uint32_t>(soup.points.size() - 1)});
                 ray_of.push_back(&col);
@@ -467,7 +467,7 @@ private:
         if (n < 2) return;
         const int rounds = c.closed ? 2 : 1;
         auto limit = [&](Column& to, const Column& from) {
-            const double from_top = from.stretch * level_[static_cast<size_t>(from.spec)][static_cast<size_t>(from.n)];
+            const double from_top = top(from);
             const double across = distance(level_point(to, std::min(to.n, from.n)), level_point(from, from.n));
             to.n = std::max(std::min(to.n, from.n), levels_within(to, from_top + kTopSlope * across));
         };
