@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -163,6 +164,21 @@ RandomCase random_case(std::uint64_t seed) {
     return rc;
 }
 
+// The mesh `make` returns for seed's case, or nothing: a GeometryError is a clear refusal
+// (counted and printed), anything else fails the test.
+template <class Make>
+std::optional<MeshResult> mesh_or_refusal(std::uint64_t seed, const RandomCase& rc, std::uint64_t& refused, Make&& make) {
+    try {
+        return make();
+    } catch (const GeometryError& e) {
+        ++refused;
+        std::printf("[ seed %llu ] refused: %s (%s)\n", static_cast<unsigned long long>(seed), e.what(), rc.summary.c_str());
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "seed " << seed << " (" << rc.summary << "): " << e.what();
+    }
+    return std::nullopt;
+}
+
 }  // namespace
 
 TEST(RandomDomains, EveryMeshIsValidOrTheRequestIsRefusedClearly) {
@@ -177,21 +193,14 @@ TEST(RandomDomains, EveryMeshIsValidOrTheRequestIsRefusedClearly) {
         o.smoothing_iterations = seed % 3 == 0 ? 0 : 3;
         if (seed % 4 == 1) o.triangulator = Triangulator::AdvancingFront;
         if (seed % 5 == 2) o.min_angle_deg = 28.0;
-        try {
-            const MeshResult r = generate_mesh(rc.domain, rc.density, o);
-            const auto broken = check_mesh(r.mesh, o.smoothing_iterations == 0 && o.min_angle_deg == 0.0);
-            if (!broken.empty()) ADD_FAILURE() << "seed " << seed << " (" << rc.summary << "): " << broken.front();
-            ++meshed;
-            // The admission forecast against the mesh (refinement for min_angle_deg adds
-            // points the forecast does not count).
-            if (o.min_angle_deg == 0.0) ratios.push_back(r.stats.forecast_points / static_cast<double>(r.quality.points));
-        } catch (const GeometryError& e) {
-            ++refused;
-            std::printf("[ seed %llu ] refused: %s (%s)\n", static_cast<unsigned long long>(seed), e.what(),
-                        rc.summary.c_str());
-        } catch (const std::exception& e) {
-            ADD_FAILURE() << "seed " << seed << " (" << rc.summary << "): " << e.what();
-        }
+        const auto r = mesh_or_refusal(seed, rc, refused, [&] { return generate_mesh(rc.domain, rc.density, o); });
+        if (!r) continue;
+        const auto broken = check_mesh(r->mesh, o.smoothing_iterations == 0 && o.min_angle_deg == 0.0);
+        if (!broken.empty()) ADD_FAILURE() << "seed " << seed << " (" << rc.summary << "): " << broken.front();
+        ++meshed;
+        // The admission forecast against the mesh (refinement for min_angle_deg adds points
+        // the forecast does not count).
+        if (o.min_angle_deg == 0.0) ratios.push_back(r->stats.forecast_points / static_cast<double>(r->quality.points));
     }
     std::printf("[ random domains ] %llu meshed, %llu refused\n", static_cast<unsigned long long>(meshed),
                 static_cast<unsigned long long>(refused));
@@ -322,19 +331,12 @@ TEST(RandomDomains, WithBoundaryLayersEveryMeshIsValidOrTheRequestIsRefusedClear
         o.max_points = 400000;
         o.boundary_layers = {spec};
         if (seed % 5 == 1) o.triangulator = Triangulator::AdvancingFront;
-        try {
-            const MeshResult r = generate_mesh(domain, rc.density, o);
-            const auto broken = check_mesh(r.mesh, false);
-            if (!broken.empty()) ADD_FAILURE() << "seed " << seed << " (" << rc.summary << "): " << broken.front();
-            EXPECT_GT(r.mesh.quads.size() + r.quality.boundary_layers.front().columns, 0u) << "seed " << seed;
-            ++meshed;
-        } catch (const GeometryError& e) {
-            ++refused;
-            std::printf("[ seed %llu ] refused: %s (%s)\n", static_cast<unsigned long long>(seed), e.what(),
-                        rc.summary.c_str());
-        } catch (const std::exception& e) {
-            ADD_FAILURE() << "seed " << seed << " (" << rc.summary << "): " << e.what();
-        }
+        const auto r = mesh_or_refusal(seed, rc, refused, [&] { return generate_mesh(domain, rc.density, o); });
+        if (!r) continue;
+        const auto broken = check_mesh(r->mesh, false);
+        if (!broken.empty()) ADD_FAILURE() << "seed " << seed << " (" << rc.summary << "): " << broken.front();
+        EXPECT_GT(r->mesh.quads.size() + r->quality.boundary_layers.front().columns, 0u) << "seed " << seed;
+        ++meshed;
     }
     std::printf("[ random domains with layers ] %llu meshed, %llu refused\n", static_cast<unsigned long long>(meshed),
                 static_cast<unsigned long long>(refused));
