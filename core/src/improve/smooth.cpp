@@ -40,6 +40,11 @@ constexpr int kRepairRounds = 3;
 // corners were placed: the curves keep the paper's placement wherever it already gives this.
 constexpr double kSlideAngle = 30.0;
 
+// The cotangents of those angles: a triangle is below one when its smallest angle's
+// cotangent is above it.
+const double kRepairCot = 1.0 / std::tan(kRepairAngle * std::numbers::pi / 180.0);
+const double kSlideCot = 1.0 / std::tan(kSlideAngle * std::numbers::pi / 180.0);
+
 // Smallest angle of a counter-clockwise triangle, in radians; -1 when it is not
 // counter-clockwise.
 double min_angle(Vec2 a, Vec2 b, Vec2 c) {
@@ -163,24 +168,29 @@ private:
     void repair_round(const std::vector<TriangleId>& suspects, std::vector<std::uint32_t>& moved) {
         moved.clear();
         std::vector<std::uint32_t> corners;
-        std::vector<TriangleId> fixed;
+        std::vector<TriangleId> low, fixed;  // below kRepairAngle; those without an interior corner
         for (const TriangleId t : suspects) {
             if (!bad(t)) continue;
+            low.push_back(t);
             const size_t before = corners.size();
             for (const auto v : m_.triangles[t].v)
                 if (m_.kind[v] == PointKind::Interior) corners.push_back(v);
             if (corners.size() == before) fixed.push_back(t);
         }
-        // Each corner once, moved by `move`; those that moved are recorded and their stars
-        // made Delaunay again.
+        // A corner that moved is recorded and its star made Delaunay again; the triangles it
+        // changed (its star, the flips) join `low`, as they may have come below kSlideAngle.
+        auto settle = [&](std::uint32_t v) {
+            moved.push_back(v);
+            restore_delaunay_around(v);
+            low.insert(low.end(), star_.begin(), star_.end());
+            low.insert(low.end(), changed_.begin(), changed_.end());
+        };
+        // Each corner once, moved by `move`.
         auto move_each = [&](auto&& move) {
             std::sort(corners.begin(), corners.end());
             corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-            for (const std::uint32_t v : corners) {
-                if (!move(v)) continue;
-                moved.push_back(v);
-                restore_delaunay_around(v);
-            }
+            for (const std::uint32_t v : corners)
+                if (move(v)) settle(v);
         };
         move_each([&](std::uint32_t v) { return optimise(v); });
         // Triangles of fixed points only (where curves meet at a wide angle, a short curve
@@ -188,16 +198,14 @@ private:
         // their longest edge is offered the edge's other diagonal.
         for (const TriangleId t : fixed) {
             if (!bad(t)) continue;  // an earlier move or flip may have mended it
-            const std::uint32_t v = open_up(t);
-            if (v == kNoVertex) continue;
-            moved.push_back(v);
-            restore_delaunay_around(v);
+            const std::uint32_t v = open_up(t, low);
+            if (v != kNoVertex) settle(v);
         }
         // Last, the points on curves of triangles still below kSlideAngle slide along them.
         if (domain_ == nullptr) return;
         corners.clear();
-        for (const TriangleId t : suspects) {
-            if (!bad(t, kSlideAngle)) continue;
+        for (const TriangleId t : low) {
+            if (!bad(t, kSlideCot)) continue;
             for (const auto v : m_.triangles[t].v)
                 if (m_.kind[v] == PointKind::Boundary || m_.kind[v] == PointKind::Embedded) corners.push_back(v);
         }
@@ -281,9 +289,9 @@ private:
         return true;
     }
 
-    // True when t has an angle below `degrees`.
-    bool bad(TriangleId t, double degrees = kRepairAngle) const {
-        const double cot_limit = 1.0 / std::tan(degrees * std::numbers::pi / 180.0);
+    // True when t has an angle whose cotangent is above `cot_limit` (kRepairCot: below
+    // kRepairAngle).
+    bool bad(TriangleId t, double cot_limit = kRepairCot) const {
         const Triangle& T = m_.triangles[t];
         return smallest_angle_cot(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]).cot > cot_limit;
     }
@@ -293,8 +301,9 @@ private:
     // edge becomes a-x and x is placed for the largest smallest angle of its new star. Kept
     // when that beats the smallest angle of t and of x's old star (then the Delaunay flips
     // that follow keep a-x too: for one quad they choose the diagonal with the larger
-    // smallest angle). Returns x, or kNoVertex when nothing changed.
-    std::uint32_t open_up(TriangleId t) {
+    // smallest angle). Returns x, or kNoVertex when nothing changed. The two triangles
+    // flipped join `touched` (flipped back, (a, b, c) lies in the other one).
+    std::uint32_t open_up(TriangleId t, std::vector<TriangleId>& touched) {
         const Triangle& T = m_.triangles[t];
         std::uint32_t i = 0;
         double longest = -1.0;
@@ -313,6 +322,7 @@ private:
         const Vec2 old = pts_[x];
         if (orient2d(a, b, old) != Orientation::Left || orient2d(a, old, c) != Orientation::Left) return kNoVertex;
         const double before = std::min(star_min_angle(), min_angle(a, b, c));
+        touched.push_back(u);
         soup_.flip(t, i);  // t = (a, b, x), u = (a, x, c)
         optimise(x);
         if (walk_star(x) && star_min_angle() > before) {
