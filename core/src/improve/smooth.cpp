@@ -227,10 +227,11 @@ private:
         flip_each(low, kSlideCot, false);
     }
 
-    // The parameter on curve c of w, a neighbour along it of a point of c: its own, or for
-    // the corner at an end of c (or at a corner of c's geometry) that end's; NaN for
+    // The parameter on curve c of w, a neighbour along it of the point of c at parameter t0:
+    // its own, or for the corner at an end of c (or at a corner of c's geometry) that end's,
+    // the one nearer t0 where two give the same point (a closed curve's seam); NaN for
     // anything else (a boundary layer's top standing on c).
-    double param_on(CurveId c, std::uint32_t w) const {
+    double param_on(CurveId c, std::uint32_t w, double t0) const {
         if (m_.curve[w] == c) return m_.param[w];
         if (m_.kind[w] != PointKind::Corner) return std::nan("");
         const Curve& g = *domain_->curves()[c].geometry;
@@ -240,7 +241,7 @@ private:
         double best = std::nan(""), nearest = HUGE_VAL;
         for (const double t : ts) {
             const double d = distance(g.point(t), pts_[w]);
-            if (d < nearest) {
+            if (d < nearest || (d == nearest && std::abs(t - t0) < std::abs(best - t0))) {
                 nearest = d;
                 best = t;
             }
@@ -268,7 +269,7 @@ private:
             for (const std::uint32_t i : {next3(k), prev3(k)}) {
                 if (!edge_bit(T.constrained, i)) continue;
                 const std::uint32_t w = T.v[i == next3(k) ? prev3(k) : next3(k)];
-                const double tw = param_on(c, w);
+                const double tw = param_on(c, w, t0);
                 if (std::isnan(tw)) return false;
                 if (tw < t0) lo = std::max(lo, tw);
                 else if (tw > t0) hi = std::min(hi, tw);
