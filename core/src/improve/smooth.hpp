@@ -11,12 +11,13 @@ namespace meshd::core {
 /// Each sweep moves the interior points that are still settling to the mean of their
 /// neighbours (or half way) unless that inverts a triangle of the star or lowers the star's
 /// worst mean ratio; then the Delaunay property is restored by flips of unconstrained edges.
-/// Last, the interior corners of triangles with an angle below 34 degrees are placed where
-/// the smallest angle of their star is largest (a pattern search), again followed by flips.
-/// A triangle of such an angle with no interior corner has the edge opposite its largest
-/// angle flipped when the interior point beyond it, placed again, makes a better star. With
-/// the domain given, points on curves of triangles still below 34 degrees then slide along
-/// their curves (between their neighbours there, never off a corner of the curve).
+/// Last, the angle repair: the interior corners of triangles with an angle below 34 degrees
+/// are placed where the smallest angle of their star is largest (a pattern search), again
+/// followed by flips; a triangle of fixed points only has an edge flipped when the interior
+/// point beyond it, placed again, makes a better star; with the domain given, points on
+/// curves of triangles still below 30 degrees slide along their curves (between their
+/// neighbours there, never off a corner of the curve); and a triangle still below 30 degrees
+/// has the edge flipped, with the quad's interior corners placed again, that does best.
 /// Returns the number of moves made; adds the flips to *flips when given.
 std::uint64_t smooth(Mesh& mesh, int iterations, const Domain* domain = nullptr, std::uint64_t* flips = nullptr,
                      Observer* observer = nullptr);
