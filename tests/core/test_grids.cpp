@@ -1,9 +1,11 @@
 // The size-class grids' cell map (blocks of 4 x 4 cells behind one hash slot) against a plain
-// list, and the request for huge pages under large arrays.
+// list, the segment grid's pair searches against a test of every pair, and the request for
+// huge pages under large arrays.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <random>
@@ -12,7 +14,9 @@
 #include <tuple>
 #include <vector>
 
+#include "kernel/crossings.hpp"
 #include "kernel/memory.hpp"
+#include "kernel/predicates.hpp"
 #include "kernel/size_grid.hpp"
 
 using namespace meshd::core;
@@ -100,6 +104,48 @@ static std::string vm_flags_at(std::uintptr_t a) {
         if (inside && line.rfind("VmFlags:", 0) == 0) return line;
     }
     return {};
+}
+
+// Segments of sizes from 1e-6 to 1 (as a wall's first layers beside its outer ones), many
+// sharing an end: each search must give exactly the pairs that a test of every pair gives,
+// each once.
+TEST(SegmentGrid, BoxOverlapsAndCrossingsAreTheSameAsTestingEveryPair) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    detail::SegmentSoup soup;
+    for (int i = 0; i < 1500; ++i) {
+        const Vec2 a{u(rng), u(rng)};
+        const double len = std::pow(10.0, -6.0 * u(rng)), angle = 6.283185307179586 * u(rng);
+        soup.points.push_back(a);
+        soup.points.push_back(a + len * Vec2{std::cos(angle), std::sin(angle)});
+        const auto n = static_cast<std::uint32_t>(soup.points.size());
+        soup.segments.push_back({n - 2, n - 1});
+        if (i % 3 == 0 && n > 2) soup.segments.push_back({n - 1, n - 3});  // a chain: shared ends
+    }
+    using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+    Pairs boxes, crossings;
+    detail::for_each_box_overlap(soup, [&](std::uint32_t i, std::uint32_t j) { boxes.emplace_back(i, j); });
+    detail::for_each_crossing(soup, [&](std::uint32_t i, std::uint32_t j) { crossings.emplace_back(i, j); });
+    Pairs want_boxes, want_crossings;
+    const auto n = static_cast<std::uint32_t>(soup.segments.size());
+    for (std::uint32_t i = 0; i < n; ++i)
+        for (std::uint32_t j = i + 1; j < n; ++j) {
+            const Vec2 a = soup.points[soup.segments[i][0]], b = soup.points[soup.segments[i][1]];
+            const Vec2 c = soup.points[soup.segments[j][0]], d = soup.points[soup.segments[j][1]];
+            if (std::max(std::min(a.x, b.x), std::min(c.x, d.x)) <= std::min(std::max(a.x, b.x), std::max(c.x, d.x)) &&
+                std::max(std::min(a.y, b.y), std::min(c.y, d.y)) <= std::min(std::max(a.y, b.y), std::max(c.y, d.y)))
+                want_boxes.emplace_back(i, j);
+            const auto& s = soup.segments[i];
+            const auto& t = soup.segments[j];
+            const bool neighbours = s[0] == t[0] || s[0] == t[1] || s[1] == t[0] || s[1] == t[1];
+            if (!neighbours && segments_intersect(a, b, c, d)) want_crossings.emplace_back(i, j);
+        }
+    std::sort(boxes.begin(), boxes.end());
+    std::sort(crossings.begin(), crossings.end());
+    EXPECT_GT(want_boxes.size(), 100u);
+    EXPECT_GT(want_crossings.size(), 20u);
+    EXPECT_EQ(boxes, want_boxes);
+    EXPECT_EQ(crossings, want_crossings);  // random chains do not fold back on themselves
 }
 
 TEST(HugePages, ALargeReservationIsMarkedForHugePagesAndKeepsItsContents) {

@@ -55,16 +55,14 @@ SegmentGrid::Cells SegmentGrid::cells(std::uint32_t segment, int k) const {
                  classes_.iy(std::fmin(a.y, b.y) - margin_, k), classes_.iy(std::fmax(a.y, b.y) + margin_, k)};
 }
 
-void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
-    const auto& pts = soup.points;
-    const auto& segs = soup.segments;
-    const size_t n = segs.size();
-    if (n < 2) return;
-    const SegmentGrid grid(soup, 0.0);
-    if (grid.empty()) return;
+namespace {
 
+// Calls visit(i, j) for every pair of segments whose boxes the grid finds in a common cell
+// (a superset of the pairs whose boxes overlap), each pair once, from the smaller segment.
+template <class F>
+void for_each_candidate(const SegmentSoup& soup, const SegmentGrid& grid, F&& visit) {
     std::vector<std::uint32_t> candidates;
-    for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::uint32_t i = 0; i < soup.segments.size(); ++i) {
         candidates.clear();
         const int own = grid.size_class(i);
         for (int k = 1; k <= own; ++k) {  // classes of segments no smaller than this one
@@ -80,23 +78,51 @@ void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::ui
         if (candidates.empty()) continue;
         std::sort(candidates.begin(), candidates.end());
         candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-        const auto& s = segs[i];
-        for (std::uint32_t j : candidates) {
-            const auto& t = segs[j];
-            if (s[0] == t[0] || s[0] == t[1] || s[1] == t[0] || s[1] == t[1]) {
-                // Neighbours: only a collinear overlap (folding back) is a crossing.
-                const std::uint32_t shared = (s[0] == t[0] || s[0] == t[1]) ? s[0] : s[1];
-                const std::uint32_t so = s[0] == shared ? s[1] : s[0];
-                const std::uint32_t to = t[0] == shared ? t[1] : t[0];
-                if (so != to && (orient2d(pts[shared], pts[so], pts[to]) != Orientation::Collinear ||
-                                 dot(pts[so] - pts[shared], pts[to] - pts[shared]) < 0.0))
-                    continue;
-            } else if (!segments_intersect(pts[s[0]], pts[s[1]], pts[t[0]], pts[t[1]])) {
-                continue;
-            }
-            visit(std::min(i, j), std::max(i, j));
-        }
+        for (const std::uint32_t j : candidates) visit(i, j);
     }
+}
+
+}  // namespace
+
+void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
+    const auto& pts = soup.points;
+    const auto& segs = soup.segments;
+    if (segs.size() < 2) return;
+    const SegmentGrid grid(soup, 0.0);
+    if (grid.empty()) return;
+    for_each_candidate(soup, grid, [&](std::uint32_t i, std::uint32_t j) {
+        const auto& s = segs[i];
+        const auto& t = segs[j];
+        if (s[0] == t[0] || s[0] == t[1] || s[1] == t[0] || s[1] == t[1]) {
+            // Neighbours: only a collinear overlap (folding back) is a crossing.
+            const std::uint32_t shared = (s[0] == t[0] || s[0] == t[1]) ? s[0] : s[1];
+            const std::uint32_t so = s[0] == shared ? s[1] : s[0];
+            const std::uint32_t to = t[0] == shared ? t[1] : t[0];
+            if (so != to && (orient2d(pts[shared], pts[so], pts[to]) != Orientation::Collinear ||
+                             dot(pts[so] - pts[shared], pts[to] - pts[shared]) < 0.0))
+                return;
+        } else if (!segments_intersect(pts[s[0]], pts[s[1]], pts[t[0]], pts[t[1]])) {
+            return;
+        }
+        visit(std::min(i, j), std::max(i, j));
+    });
+}
+
+void for_each_box_overlap(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
+    if (soup.segments.size() < 2) return;
+    const SegmentGrid grid(soup, 0.0);
+    if (grid.empty()) return;
+    auto box = [&](std::uint32_t i) {
+        Box b;
+        b.add(soup.points[soup.segments[i][0]]);
+        b.add(soup.points[soup.segments[i][1]]);
+        return b;
+    };
+    for_each_candidate(soup, grid, [&](std::uint32_t i, std::uint32_t j) {
+        const Box a = box(i), b = box(j);
+        if (a.lo.x <= b.hi.x && b.lo.x <= a.hi.x && a.lo.y <= b.hi.y && b.lo.y <= a.hi.y)
+            visit(std::min(i, j), std::max(i, j));
+    });
 }
 
 std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const SegmentSoup& soup) {

@@ -68,6 +68,10 @@ private:
 /// common end only when they overlap), each pair once.
 void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit);
 
+/// Calls visit(i, j), i < j, for every pair of segments whose bounding boxes (the boxes with
+/// the segment as their diagonal) overlap or touch, each pair once.
+void for_each_box_overlap(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit);
+
 /// The crossing pair (i, j), i < j, with the smallest i (then j), if any.
 std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const SegmentSoup& soup);
 

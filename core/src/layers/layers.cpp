@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <unordered_map>
 
 #include "geometry/curve.hpp"
 #include "kernel/crossings.hpp"
@@ -538,6 +539,15 @@ private:
 
     // 3. One round: cells that are not strictly convex, or edges that cross, lose the layers
     // from there up. True when anything was cut.
+    //
+    // The cells between two neighbouring columns form a strip. Where every cell is strictly
+    // convex and counter-clockwise, a strip lies on one side of each of its two columns (a
+    // column is straight, and a convex cell lies on one side of the line of any of its
+    // edges), so a strip crosses neither itself nor the strips beside it. Only strips whose
+    // box meets the box of another strip or of a boundary segment not their own (or that hold
+    // a bad cell) have their edges tested against the boundary and each other: the walls'
+    // thin first layers, dozens of edges to a column's width, are then tested only where
+    // something else comes near.
     bool cut_crossings() {
         if (observer_ && observer_->should_stop()) throw Cancelled();
         const Discretisation b = make_boundary();
@@ -546,6 +556,7 @@ private:
         for (VertexId v = 0; v < b.size(); ++v) soup.points.push_back(b.point(v));
         std::vector<LayerPoint> owner(b.size(), LayerPoint{UINT32_MAX, 0, 0});
         for (const BoundarySegment& s : b.segments) soup.segments.push_back({s.a, s.b});
+        const size_t boundary = soup.segments.size();
         for (std::uint32_t ci = 0; ci < chains_.size(); ++ci) {
             for (std::uint32_t k = 0; k < chains_[ci].columns.size(); ++k) {
                 Column& col = chains_[ci].columns[k];
@@ -560,6 +571,30 @@ private:
                 }
             }
         }
+        // The strips, chain by chain: strip k between columns k and k + 1 (cyclic on closed
+        // chains).
+        std::vector<std::uint32_t> first_strip(chains_.size() + 1, 0);
+        for (std::uint32_t ci = 0; ci < chains_.size(); ++ci) {
+            const size_t nc = chains_[ci].columns.size();
+            first_strip[ci + 1] = first_strip[ci] + static_cast<std::uint32_t>(chains_[ci].closed ? nc : (nc > 0 ? nc - 1 : 0));
+        }
+        const std::uint32_t strips = first_strip.back();
+        auto strip_count = [&](std::uint32_t ci) { return first_strip[ci + 1] - first_strip[ci]; };
+        auto chain_of = [&](std::uint32_t s) {
+            return static_cast<std::uint32_t>(std::upper_bound(first_strip.begin(), first_strip.end(), s) - first_strip.begin() - 1);
+        };
+        auto adjacent = [&](std::uint32_t s, std::uint32_t t) {
+            const std::uint32_t ci = chain_of(s);
+            if (chain_of(t) != ci) return false;
+            const std::uint32_t d = s > t ? s - t : t - s;
+            return d <= 1 || (chains_[ci].closed && d + 1 == strip_count(ci));
+        };
+        // The strip of each soup segment past the boundary's (a column's side goes with the
+        // strip after it, the last column of an open chain with the one before); kAny for a
+        // lone column's side, which is always tested.
+        constexpr std::uint32_t kAny = UINT32_MAX;
+        std::vector<std::uint32_t> strip_of;
+        std::vector<char> suspect(strips, 0);
         bool cut = false;
         auto drop = [&](std::uint32_t p) {
             if (p >= owner.size() || owner[p].chain == UINT32_MAX) return;
@@ -569,34 +604,101 @@ private:
                 cut = true;
             }
         };
-        auto edge = [&](std::uint32_t a, std::uint32_t e) {
-            if (a != e) soup.segments.push_back({a, e});
+        auto edge = [&](std::uint32_t a, std::uint32_t e, std::uint32_t strip) {
+            if (a == e) return;
+            soup.segments.push_back({a, e});
+            strip_of.push_back(strip);
         };
-        auto cell = [&](std::initializer_list<std::uint32_t> v) {
+        auto cell = [&](std::initializer_list<std::uint32_t> v, std::uint32_t strip) {
             const std::vector<std::uint32_t> c(v);
             const size_t n = c.size();
             for (size_t i = 0; i < n; ++i) {
                 if (orient2d(soup.points[c[i]], soup.points[c[(i + 1) % n]], soup.points[c[(i + 2) % n]]) !=
                     Orientation::Left) {
                     for (std::uint32_t p : c) drop(p);  // the cell's points above the wall go
+                    suspect[strip] = 1;
                     return;
                 }
             }
         };
         for (std::uint32_t ci = 0; ci < chains_.size(); ++ci) {
             const Chain& ch = chains_[ci];
-            for (const Column& col : ch.columns)
-                if (col.slide == kNoCurve)  // a sliding column's sides are the boundary's
-                    for (size_t l = 0; l + 1 < col.ids.size(); ++l) edge(col.ids[l], col.ids[l + 1]);
+            const std::uint32_t ns = strip_count(ci);
+            for (std::uint32_t k = 0; k < ch.columns.size(); ++k) {
+                const Column& col = ch.columns[k];
+                if (col.slide != kNoCurve) continue;  // a sliding column's sides are the boundary's
+                const std::uint32_t strip = ns == 0 ? kAny : first_strip[ci] + std::min(k, ns - 1);
+                for (size_t l = 0; l + 1 < col.ids.size(); ++l) edge(col.ids[l], col.ids[l + 1], strip);
+            }
             walk_cells(ch, [&](const Cell& c) {
-                edge(c.across[0], c.across[1]);
-                if (c.corners == 4) cell({c.v[0], c.v[1], c.v[2], c.v[3]});
-                else cell({c.v[0], c.v[1], c.v[2]});
+                const std::uint32_t strip = first_strip[ci] + c.strip;
+                edge(c.across[0], c.across[1], strip);
+                if (c.corners == 4) cell({c.v[0], c.v[1], c.v[2], c.v[3]}, strip);
+                else cell({c.v[0], c.v[1], c.v[2]}, strip);
             });
         }
-        detail::for_each_crossing(soup, [&](std::uint32_t i, std::uint32_t j) {
+        // Each strip's box (its two columns' points) and each boundary segment, as diagonals;
+        // the strips that meet another strip not beside them, or a boundary segment that is
+        // not their own or their neighbours', are suspects.
+        detail::SegmentSoup boxes;
+        for (std::uint32_t ci = 0; ci < chains_.size(); ++ci) {
+            const size_t nc = chains_[ci].columns.size();
+            for (std::uint32_t k = 0; k < strip_count(ci); ++k) {
+                const auto next = static_cast<std::uint32_t>((k + 1) % nc);
+                Box box;
+                for (const std::uint32_t c : {k, next})
+                    for (const std::uint32_t id : chains_[ci].columns[c].ids) box.add(soup.points[id]);
+                boxes.points.push_back(box.lo);
+                boxes.points.push_back(box.hi);
+                boxes.segments.push_back({2 * (first_strip[ci] + k), 2 * (first_strip[ci] + k) + 1});
+            }
+        }
+        for (size_t i = 0; i < boundary; ++i) {
+            boxes.segments.push_back({static_cast<std::uint32_t>(boxes.points.size()), static_cast<std::uint32_t>(boxes.points.size() + 1)});
+            boxes.points.push_back(soup.points[soup.segments[i][0]]);
+            boxes.points.push_back(soup.points[soup.segments[i][1]]);
+        }
+        // The boundary segments that are a strip's own: its wall segment, and the segments of
+        // a column sliding on a curve (with the strip after it, as a column's side).
+        std::unordered_map<std::uint64_t, std::uint32_t> own;
+        auto key = [](std::uint32_t a, std::uint32_t e) {
+            return static_cast<std::uint64_t>(std::min(a, e)) << 32 | std::max(a, e);
+        };
+        for (std::uint32_t ci = 0; ci < chains_.size(); ++ci) {
+            const Chain& ch = chains_[ci];
+            const std::uint32_t ns = strip_count(ci);
+            if (ns == 0) continue;
+            for (std::uint32_t k = 0; k < ch.columns.size(); ++k) {
+                const Column& col = ch.columns[k];
+                const std::uint32_t strip = first_strip[ci] + std::min(k, ns - 1);
+                if (k < ns) {
+                    const VertexId next = ch.columns[(k + 1) % ch.columns.size()].base;
+                    if (next != col.base) own[key(col.base, next)] = first_strip[ci] + k;
+                }
+                if (col.slide != kNoCurve)
+                    for (size_t l = 0; l + 1 < col.ids.size(); ++l) own[key(col.ids[l], col.ids[l + 1])] = strip;
+            }
+        }
+        detail::for_each_box_overlap(boxes, [&](std::uint32_t i, std::uint32_t j) {
+            if (j < strips) {  // two strips
+                if (!adjacent(i, j)) suspect[i] = suspect[j] = 1;
+            } else if (i < strips) {  // a strip and a boundary segment
+                const auto& e = soup.segments[j - strips];
+                const auto it = own.find(key(e[0], e[1]));
+                if (it == own.end() || !(it->second == i || adjacent(i, it->second))) suspect[i] = 1;
+            }
+        });
+        // The boundary and the suspects' edges, tested for crossings.
+        detail::SegmentSoup tested;
+        tested.points = std::move(soup.points);
+        tested.segments.assign(soup.segments.begin(), soup.segments.begin() + static_cast<std::ptrdiff_t>(boundary));
+        for (size_t i = boundary; i < soup.segments.size(); ++i) {
+            const std::uint32_t strip = strip_of[i - boundary];
+            if (strip == kAny || suspect[strip]) tested.segments.push_back(soup.segments[i]);
+        }
+        detail::for_each_crossing(tested, [&](std::uint32_t i, std::uint32_t j) {
             for (std::uint32_t s : {i, j}) {
-                const auto& e = soup.segments[s];
+                const auto& e = tested.segments[s];
                 const int la = owner[e[0]].chain != UINT32_MAX ? owner[e[0]].level : 0;
                 const int lb = owner[e[1]].chain != UINT32_MAX ? owner[e[1]].level : 0;
                 if (la == 0 && lb == 0) continue;  // the boundary's own
@@ -757,6 +859,7 @@ private:
         int corners;
         std::array<std::uint32_t, 2> across;
         int spec;
+        std::uint32_t strip;  // k: between columns k and k + 1
     };
 
     // The cells between each pair of neighbouring columns of a chain: quads level by level
@@ -772,14 +875,15 @@ private:
             const int spec = c.columns[k].spec;
             const size_t na = P.size() - 1, nb = Q.size() - 1, common = std::min(na, nb);
             const bool fan = P[0] == Q[0];
+            const auto s = static_cast<std::uint32_t>(k);
             for (size_t l = 0; l < common; ++l) {
-                if (l == 0 && fan) visit(Cell{{P[0], Q[1], P[1], 0}, 3, {Q[1], P[1]}, spec});
-                else visit(Cell{{P[l], Q[l], Q[l + 1], P[l + 1]}, 4, {Q[l + 1], P[l + 1]}, spec});
+                if (l == 0 && fan) visit(Cell{{P[0], Q[1], P[1], 0}, 3, {Q[1], P[1]}, spec, s});
+                else visit(Cell{{P[l], Q[l], Q[l + 1], P[l + 1]}, 4, {Q[l + 1], P[l + 1]}, spec, s});
             }
             for (size_t l = nb; l < na; ++l)
-                if (!(l == 0 && fan)) visit(Cell{{P[l], Q[nb], P[l + 1], 0}, 3, {Q[nb], P[l + 1]}, spec});
+                if (!(l == 0 && fan)) visit(Cell{{P[l], Q[nb], P[l + 1], 0}, 3, {Q[nb], P[l + 1]}, spec, s});
             for (size_t l = na; l < nb; ++l)
-                if (!(l == 0 && fan)) visit(Cell{{P[na], Q[l], Q[l + 1], 0}, 3, {P[na], Q[l + 1]}, spec});
+                if (!(l == 0 && fan)) visit(Cell{{P[na], Q[l], Q[l + 1], 0}, 3, {P[na], Q[l + 1]}, spec, s});
         }
     }
 
