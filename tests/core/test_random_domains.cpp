@@ -15,6 +15,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <set>
 #include <string>
 
 #include "fixtures.hpp"
@@ -381,5 +382,41 @@ TEST(RandomDomains, AFixedPointsFanGivesUpATriangleItHasNoRoomFor) {
         EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
         const auto [angle, at] = smallest_free_angle(r.mesh);
         EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << at.x << ", " << at.y << ")";
+    }
+}
+
+// An embedded line whose free end comes near a hole's layers from the side, between two of
+// their columns: the columns there are cut back as for a cross of the local size at the end,
+// so the triangles at the end keep 30 degrees (seeds 67 and 72: 17.5 and 14.9 before).
+TEST(RandomDomains, LayersLeaveRoomBesideAnEmbeddedCurvesFreeEnd) {
+    for (const std::uint64_t seed : {67u, 72u}) {
+        const RandomCase rc = random_case(seed);
+        const Domain domain = build_domain(rc.domain);
+        const auto spec = layers_for(seed, rc, domain);
+        ASSERT_TRUE(spec) << seed;
+        MeshOptions o;
+        o.boundary_layers = {*spec};
+        const MeshResult r = generate_mesh(domain, rc.density, o);
+        const Mesh& m = r.mesh;
+        EXPECT_TRUE(check_mesh(m, false).empty()) << seed;
+        std::set<VertexId> on_loop, free_ends;
+        for (const MeshEdge& e : m.edges)
+            if (!e.embedded) on_loop.insert({e.a, e.b});
+        for (const CurveId c : domain.embedded())
+            for (const VertexId v : m.curve_ends[c])
+                if (v != kNoVertex && !on_loop.count(v)) free_ends.insert(v);
+        ASSERT_FALSE(free_ends.empty()) << seed;
+        size_t seen = 0;
+        for (const Triangle& t : m.triangles) {
+            if (t.layer || std::none_of(t.v.begin(), t.v.end(), [&](VertexId v) { return free_ends.count(v) > 0; }))
+                continue;
+            ++seen;
+            for (std::uint32_t i = 0; i < 3; ++i) {
+                const Vec2 a = m.point(t.v[i]), b = m.point(t.v[(i + 1) % 3]), c = m.point(t.v[(i + 2) % 3]);
+                EXPECT_GE(std::atan2(cross(b - a, c - a), dot(b - a, c - a)) * 180.0 / std::numbers::pi, 30.0)
+                    << "seed " << seed << " at (" << a.x << ", " << a.y << ")";
+            }
+        }
+        EXPECT_GT(seen, 0u) << seed;
     }
 }

@@ -419,6 +419,29 @@ private:
         soup.points.assign(d_.x.size(), {});
         for (VertexId v = 0; v < d_.size(); ++v) soup.points[v] = pt(v);
         for (const BoundarySegment& s : d_.segments) soup.segments.push_back({s.a, s.b});
+        // The free ends of an embedded curve (on no loop) stand for crosses of the local size,
+        // so that a column passing beside one also leaves room for isotropic triangles there.
+        // Not the end of a curve shorter than that cross which leaves a loop: it lies among the
+        // loop's own columns, which stop at the curve or turn onto it.
+        std::vector<char> on_loop(d_.size(), 0);
+        for (size_t i = 0; i < d_.loop_segment_count; ++i) on_loop[d_.segments[i].a] = on_loop[d_.segments[i].b] = 1;
+        for (const CurveId e : domain_.embedded()) {
+            const auto& vs = d_.curve_vertices[e];
+            if (vs.size() < 2) continue;
+            for (const VertexId v : {vs.front(), vs.back()}) {
+                if (on_loop[v]) continue;
+                const VertexId other = v == vs.front() ? vs.back() : vs.front();
+                const Vec2 p = pt(v), along = unit(p - pt(v == vs.front() ? vs[1] : vs[vs.size() - 2]));
+                const double r = rho_.interior(p);
+                if (on_loop[other] && distance(p, pt(other)) < 2.0 * r) continue;
+                for (const Vec2 arm : {along, Vec2{-along.y, along.x}}) {
+                    soup.points.push_back(p - r * arm);
+                    soup.points.push_back(p + r * arm);
+                    soup.segments.push_back({static_cast<std::uint32_t>(soup.points.size() - 2),
+                                             static_cast<std::uint32_t>(soup.points.size() - 1)});
+                }
+            }
+        }
         const size_t boundary = soup.segments.size();
         std::vector<Column*> ray_of;
         for (Chain& c : chains_) {
