@@ -46,6 +46,10 @@ constexpr double kSlideAngle = 30.0;
 // cotangent is above it.
 const double kRepairCot = 1.0 / std::tan(kRepairAngle * std::numbers::pi / 180.0);
 const double kSlideCot = 1.0 / std::tan(kSlideAngle * std::numbers::pi / 180.0);
+// Triangles still below this (degrees) after the slide are past what one flip mends: the last
+// step of a round leaves them (on a density too steep for any mesh, trying them made the
+// smoothing ten times slower for nothing).
+const double kFloorCot = 1.0 / std::tan(15.0 * std::numbers::pi / 180.0);
 
 // Smallest angle of a counter-clockwise triangle, in radians; -1 when it is not
 // counter-clockwise.
@@ -205,6 +209,7 @@ private:
                 const auto& v = m_.triangles[t].v;
                 if (fixed_only && std::any_of(v.begin(), v.end(), [&](auto w) { return m_.kind[w] == PointKind::Interior; }))
                     continue;
+                if (!fixed_only && bad(t, kFloorCot)) continue;  // beyond what one flip mends
                 placed.clear();
                 if (flip_and_place(t, low, placed))
                     for (const std::uint32_t w : placed) settle(w);
@@ -222,8 +227,8 @@ private:
             }
             move_each([&](std::uint32_t v) { return slide(v); });
         }
-        // Last, any triangle still below kSlideAngle (the next round places the corners its
-        // flips moved again, and slides once more).
+        // Last, any triangle still below kSlideAngle but above the floor (the next round
+        // places the corners its flips moved again, and slides once more).
         flip_each(low, kSlideCot, false);
     }
 
@@ -313,10 +318,10 @@ private:
     }
 
     // Triangle t is still below the repair's limits after its interior corners were placed
-    // (or has none: curves meeting at a wide angle, a short curve beside a coarser one). Each
-    // of its free edges is offered its other diagonal where the quad is convex, with the
-    // quad's interior corners placed again; the best of the three is kept when the smallest
-    // angle over the two triangles and those corners' stars beats what it was (the Delaunay
+    // (or has none: curves meeting at a wide angle, a short curve beside a coarser one). Of
+    // its free edges whose quad is convex, the one whose flip alone leaves the best smallest
+    // angle is flipped and the quad's interior corners are placed again; kept when the
+    // smallest angle over the two triangles and those corners' stars beats what it was (the Delaunay
     // flips that follow keep it: for one quad they choose the diagonal with the larger
     // smallest angle). So a fixed triangle's edge goes to the interior point beyond it, and a
     // fixed point's fan with one triangle too many for its angle (a layer's top, a curve's
@@ -327,9 +332,10 @@ private:
         // The edges by the corner opposite them (a flip undone moves the triangle to another
         // slot, turned).
         const std::array<std::uint32_t, 3> order = m_.triangles[t].v;
-        // Flips the edge opposite order[r] and places the interior corners; kept when `keep`
-        // and better than before, else undone. The smallest angle after, -1 when not tried.
-        auto attempt = [&](std::uint32_t r, bool keep) -> double {
+        // Flips the edge opposite order[r] and places the interior corners (not when `quick`:
+        // to rank the edges); kept when `keep` and better than before, else undone. The
+        // smallest angle after, -1 when not tried.
+        auto attempt = [&](std::uint32_t r, bool keep, bool quick) -> double {
             const Triangle& T = m_.triangles[t];
             const std::uint32_t i = TriangleSoup::index_of(T, order[r]);
             const TriangleId u = T.n[i];
@@ -360,7 +366,8 @@ private:
             const double before = region_min();
             if (before < 0.0) return -1.0;
             soup_.flip(t, i);  // t = (p, b, q), u = (p, q, c)
-            for (size_t k = 0; k < nfree; ++k) optimise(free[k]);
+            if (!quick)
+                for (size_t k = 0; k < nfree; ++k) optimise(free[k]);
             const double after = region_min();
             if (keep && after > before) {
                 ++flips_;
@@ -381,20 +388,19 @@ private:
                 if (walk_star(free[k]))
                     for (const TriangleId s : star_) update_quality(s);
             t = u;  // where the triangle is now
-            return after > before ? after : -1.0;
+            return quick ? after : (after > before ? after : -1.0);
         };
-        // The best of the three edges (optimise is deterministic: doing it again gives the
-        // same result).
+        // The edge whose flip alone does best is flipped and its quad's corners placed.
         double best = -1.0;
         std::uint32_t best_r = 3;
         for (std::uint32_t r = 0; r < 3; ++r) {
-            const double f = attempt(r, false);
+            const double f = attempt(r, false, true);
             if (f > best) {
                 best = f;
                 best_r = r;
             }
         }
-        return best_r < 3 && attempt(best_r, true) >= 0.0;
+        return best_r < 3 && attempt(best_r, true, false) >= 0.0;
     }
 
     void update_quality(TriangleId t) {

@@ -16,8 +16,9 @@ namespace meshd::core {
 /// followed by flips; a triangle of fixed points only has an edge flipped when the interior
 /// point beyond it, placed again, makes a better star; with the domain given, points on
 /// curves of triangles still below 30 degrees slide along their curves (between their
-/// neighbours there, never off a corner of the curve); and a triangle still below 30 degrees
-/// has the edge flipped, with the quad's interior corners placed again, that does best.
+/// neighbours there, never off a corner of the curve); and a triangle still between 15 and 30
+/// degrees has the edge flipped whose flip does best, with the quad's interior corners placed
+/// again, when that mends it.
 /// Returns the number of moves made; adds the flips to *flips when given.
 std::uint64_t smooth(Mesh& mesh, int iterations, const Domain* domain = nullptr, std::uint64_t* flips = nullptr,
                      Observer* observer = nullptr);
