@@ -395,3 +395,22 @@ TEST(LayersRefused, MoreLayerPointsThanTheLimit) {
 }
 
 }  // namespace
+
+// A free end where the field is coarse stands for a large cross; where its arm reaches the
+// wall the field is fine, and a crossing there is no reason to cut the wall's layers back:
+// nothing is cut (before the crossing had to lie within the local size of the end, a column
+// under the arm lost all its layers).
+TEST(LayersBesideAFreeEnd, AreNotCutWhereTheEndsCrossReachesIntoAFinerField) {
+    DomainSpec s;
+    s.points = {{"A", {0, 0}}, {"B", {3, 0}}, {"C", {3, 1.5}}, {"D", {0, 1.5}}, {"P", {1, 0.3}}, {"Q", {1.3, 0.6}}};
+    s.curves = {line("bottom", "A", "B", "wall"), line("right", "B", "C"), line("top", "C", "D"), line("left", "D", "A"),
+                line("cut", "P", "Q")};
+    s.loops = {loop({"bottom", "right", "top", "left"})};
+    s.embedded = {"cut"};
+    MeshOptions o;
+    o.boundary_layers = {spec({"bottom"}, 1e-4, 1.2, 12)};
+    const MeshResult r = generate_mesh(s, density_of("0.01 + 1.5*y"), o);
+    EXPECT_TRUE(check_mesh(r.mesh, false).empty());
+    EXPECT_EQ(r.quality.boundary_layers[0].cut_back, 0u);
+    EXPECT_EQ(r.quality.boundary_layers[0].layers_min, 12);
+}

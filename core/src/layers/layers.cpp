@@ -420,9 +420,13 @@ private:
         for (VertexId v = 0; v < d_.size(); ++v) soup.points[v] = pt(v);
         for (const BoundarySegment& s : d_.segments) soup.segments.push_back({s.a, s.b});
         // The free ends of an embedded curve (on no loop) stand for crosses of the local size,
-        // so that a column passing beside one also leaves room for isotropic triangles there.
-        // Not the end of a curve shorter than that cross which leaves a loop: it lies among the
-        // loop's own columns, which stop at the curve or turn onto it.
+        // so that a column passing beside one also leaves room for isotropic triangles there
+        // (a crossing counts only within the local size where it is, so a coarse end's long
+        // arms do not reach into a fine region). Not the end of a curve shorter than that
+        // cross which leaves a loop: it lies among the loop's own columns, which stop at the
+        // curve or turn onto it.
+        const size_t curves_end = soup.segments.size();
+        std::vector<Vec2> cross_centre;  // per cross segment
         std::vector<char> on_loop(d_.size(), 0);
         for (size_t i = 0; i < d_.loop_segment_count; ++i) on_loop[d_.segments[i].a] = on_loop[d_.segments[i].b] = 1;
         for (const CurveId e : domain_.embedded()) {
@@ -439,6 +443,7 @@ private:
                     soup.points.push_back(p + r * arm);
                     soup.segments.push_back({static_cast<std::uint32_t>(soup.points.size() - 2),
                                              static_cast<std::uint32_t>(soup.points.size() - 1)});
+                    cross_centre.push_back(p);
                 }
             }
         }
@@ -468,6 +473,7 @@ private:
             if (den != 0.0) x = a + (cross(c - a, e - c) / den) * (b - a);
             else x = dot(c - a, b - a) < dot(e - a, b - a) ? c : e;
             if (i < boundary) {
+                if (i >= curves_end && distance(x, cross_centre[i - curves_end]) > rho_.interior(x)) return;
                 // Less than half the gap, and room left between the layers of both sides for
                 // a row of isotropic triangles of the local size.
                 const double t = along(rj, x);
