@@ -384,9 +384,10 @@ private:
             touched.push_back(u);
             update_quality(t);
             update_quality(u);
-            for (size_t k = 0; k < nfree; ++k)
-                if (walk_star(free[k]))
-                    for (const TriangleId s : star_) update_quality(s);
+            if (!quick)  // the corners moved and were put back: their stars' figures again
+                for (size_t k = 0; k < nfree; ++k)
+                    if (walk_star(free[k]))
+                        for (const TriangleId s : star_) update_quality(s);
             t = u;  // where the triangle is now
             return quick ? after : (after > before ? after : -1.0);
         };
