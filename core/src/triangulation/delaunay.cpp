@@ -112,24 +112,34 @@ public:
         }
         for (const TriangleId t : inner)
             MESHD_INTERNAL_CHECK(!gone[t], "the outside reached the domain: a loop is open or turns the wrong way");
-        // Compact in place (a triangle only moves down), then renumber neighbours and corners.
-        std::vector<TriangleId> remap(tris_.size(), kNoTriangle);
-        TriangleId kept = 0;
+        // The kept triangles in the order of their largest corner's input index (what
+        // order_by_largest_corner asks of a mesh), neighbours and corners renumbered: one
+        // counting sort, into storage on huge pages.
+        auto corner = [&](const Triangle& t) { return std::max({rank_[t.v[0]], rank_[t.v[1]], rank_[t.v[2]]}); };
+        std::vector<std::uint32_t> start;
+        detail::assign_huge(start, n_ + 1, std::uint32_t{0});
         for (TriangleId t = 0; t < tris_.size(); ++t) {
             if (gone[t]) continue;
-            remap[t] = kept;
-            tris_[kept++] = tris_[t];
-        }
-        tris_.resize(kept);
-        for (Triangle& t : tris_) {
-            for (auto& nb : t.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
-            for (auto& v : t.v) {
+            for (const auto v : tris_[t].v)
                 MESHD_INTERNAL_CHECK(v < n_, "the enclosing triangle reached the domain: a loop is open");
-                v = rank_[v];
-            }
+            ++start[corner(tris_[t]) + 1];
+        }
+        for (size_t v = 0; v < n_; ++v) start[v + 1] += start[v];
+        std::vector<TriangleId> remap;
+        detail::assign_huge(remap, tris_.size(), kNoTriangle);
+        for (TriangleId t = 0; t < tris_.size(); ++t)
+            if (!gone[t]) remap[t] = start[corner(tris_[t])]++;
+        std::vector<Triangle> out;
+        detail::assign_huge(out, static_cast<size_t>(start[n_]), Triangle{});
+        for (TriangleId t = 0; t < tris_.size(); ++t) {
+            if (gone[t]) continue;
+            Triangle& o = out[remap[t]];
+            o = tris_[t];
+            for (auto& nb : o.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
+            for (auto& v : o.v) v = rank_[v];
         }
         TriangulationResult r;
-        r.triangles = std::move(tris_);
+        r.triangles = std::move(out);
         r.alias.resize(n_);
         for (size_t i = 0; i < n_; ++i) r.alias[i] = rank_[alias_[inverse_[i]]];
         r.stats = stats_;
