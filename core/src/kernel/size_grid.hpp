@@ -150,11 +150,13 @@ public:
     /// The cell of v; saturated at +-2^62 (and 0 for NaN), so that no value converts out of
     /// range. Callers keep their queries inside the grid's extent.
     std::int64_t index(double v, double o, int k) const {
-        const double f = std::floor((v - o) * inv_cell_[static_cast<size_t>(k)]);
+        const double f = (v - o) * inv_cell_[static_cast<size_t>(k)];
         constexpr double kLimit = 0x1p62;
         if (!(f > -kLimit)) return f != f ? 0 : -static_cast<std::int64_t>(kLimit);
         if (!(f < kLimit)) return static_cast<std::int64_t>(kLimit);
-        return static_cast<std::int64_t>(f);
+        // floor(f) by truncation (std::floor is a call into the maths library without SSE4.1).
+        const auto i = static_cast<std::int64_t>(f);
+        return static_cast<double>(i) > f ? i - 1 : i;
     }
     std::int64_t ix(double x, int k) const { return index(x, origin_.x, k); }
     std::int64_t iy(double y, int k) const { return index(y, origin_.y, k); }

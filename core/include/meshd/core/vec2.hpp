@@ -38,9 +38,11 @@ struct Box {
     Vec2 lo{HUGE_VAL, HUGE_VAL};
     Vec2 hi{-HUGE_VAL, -HUGE_VAL};
 
+    /// (A NaN coordinate leaves the box as it was, as std::fmin would; the comparisons below
+    /// compile to two instructions where fmin is a call into the maths library.)
     void add(Vec2 p) {
-        lo = {std::fmin(lo.x, p.x), std::fmin(lo.y, p.y)};
-        hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y)};
+        lo = {p.x < lo.x ? p.x : lo.x, p.y < lo.y ? p.y : lo.y};
+        hi = {p.x > hi.x ? p.x : hi.x, p.y > hi.y ? p.y : hi.y};
     }
     void add(const Box& b) {
         if (!b.empty()) { add(b.lo); add(b.hi); }
