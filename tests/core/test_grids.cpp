@@ -89,6 +89,32 @@ TEST(CellGrid, AQueryStopsAtTheFirstItemItsVisitorAccepts) {
 
 #if defined(__linux__)
 // The VmFlags of the mapping holding address a in /proc/self/smaps.
+// The line of /proc/self/smaps starting with `field` for the mapping that holds address a.
+static std::string smaps_field_at(std::uintptr_t a, const std::string& field) {
+    std::ifstream smaps("/proc/self/smaps");
+    std::string line;
+    bool inside = false;
+    while (std::getline(smaps, line)) {
+        std::uintptr_t lo = 0, hi = 0;
+        char dash = 0;
+        std::istringstream head(line);
+        if (head >> std::hex >> lo >> dash >> hi && dash == '-') {
+            inside = a >= lo && a < hi;
+            continue;
+        }
+        if (inside && line.rfind(field, 0) == 0) return line;
+    }
+    return {};
+}
+
+// Kibibytes of a smaps line ("Rss:   4096 kB").
+static std::size_t smaps_kib(const std::string& line) {
+    std::istringstream in(line.substr(line.find(':') + 1));
+    std::size_t kib = 0;
+    in >> kib;
+    return kib;
+}
+
 static std::string vm_flags_at(std::uintptr_t a) {
     std::ifstream smaps("/proc/self/smaps");
     std::string line;
@@ -173,5 +199,40 @@ TEST(HugePages, ALargeReservationIsMarkedForHugePagesAndKeepsItsContents) {
     detail::assign_huge(filled, std::size_t{3} << 20, std::uint32_t{7});
     EXPECT_EQ(filled.size(), std::size_t{3} << 20);
     EXPECT_TRUE(std::all_of(filled.begin(), filled.end(), [](std::uint32_t x) { return x == 7; }));
+}
+
+// The stages' own arrays start on a huge page whatever malloc would have done, keep their
+// contents as they grow, and populate() makes their pages without a write.
+TEST(HugePages, AHugeVectorStartsOnAHugePageAndPopulateMakesItsPagesAtOnce) {
+    std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string mode((std::istreambuf_iterator<char>(thp)), std::istreambuf_iterator<char>());
+    ASSERT_FALSE(mode.empty() || mode.find("[never]") != std::string::npos)
+        << "transparent huge pages are off on this machine: " << mode;
+    constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+
+    detail::HugeVector<std::uint64_t> v{1, 2, 3};
+    detail::reserve_huge(v, (std::size_t{3} << 20) + 5);  // 24 MiB and a bit: 13 huge pages
+    const auto at = reinterpret_cast<std::uintptr_t>(v.data());
+    EXPECT_EQ(at % kHuge, 0u);
+    EXPECT_EQ(v, (detail::HugeVector<std::uint64_t>{1, 2, 3}));
+    EXPECT_NE(vm_flags_at(at).find(" hg"), std::string::npos) << vm_flags_at(at);
+    // Nothing past the first page has been written: the mapping is almost all unmade.
+    const std::size_t bytes = v.capacity() * sizeof(std::uint64_t);
+    EXPECT_LT(smaps_kib(smaps_field_at(at, "Rss:")), bytes / 2048) << smaps_field_at(at, "Rss:");
+    detail::populate(v.data(), bytes);
+    EXPECT_GE(smaps_kib(smaps_field_at(at, "Rss:")), bytes / 1024) << smaps_field_at(at, "Rss:");
+    EXPECT_GT(smaps_kib(smaps_field_at(at, "AnonHugePages:")), 0u) << smaps_field_at(at, "AnonHugePages:");
+
+    // Growing past the reservation moves the contents to new storage on a huge page.
+    const std::size_t past = v.capacity() + 10;
+    for (std::uint64_t i = 3; i < past; ++i) v.push_back(i + 1);
+    EXPECT_EQ(v.size(), past);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % kHuge, 0u);
+    std::uint64_t want = 0;
+    EXPECT_TRUE(std::all_of(v.begin(), v.end(), [&](std::uint64_t x) { return x == ++want; }));
+
+    // Small ones come from operator new and work as any vector.
+    detail::HugeVector<int> small(1000, 5);
+    EXPECT_EQ(std::count(small.begin(), small.end(), 5), 1000);
 }
 #endif

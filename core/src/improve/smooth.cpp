@@ -97,13 +97,13 @@ public:
         for (size_t v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
         detail::assign_huge(opposite_, offset_[nv], std::array<std::uint32_t, 2>{});
         {
-            std::vector<std::uint32_t> fill(offset_.begin(), offset_.end() - 1);
+            detail::HugeVector<std::uint32_t> fill(offset_.begin(), offset_.end() - 1);
             for (const Triangle& t : m_.triangles)
                 for (std::uint32_t i = 0; i < 3; ++i)
                     if (m_.kind[t.v[i]] == PointKind::Interior)
                         opposite_[fill[t.v[i]]++] = {t.v[next3(i)], t.v[prev3(i)]};
         }
-        std::vector<char> active, next;
+        detail::HugeVector<char> active, next;
         detail::assign_huge(active, nv, char{0});
         detail::assign_huge(next, nv, char{0});
         for (size_t v = 0; v < nv; ++v) active[v] = m_.kind[v] == PointKind::Interior;
@@ -528,11 +528,11 @@ private:
     Observer* observer_;
     std::vector<Vec2> pts_;
     TriangleSoup soup_;
-    std::vector<std::uint32_t> seen_;
+    detail::HugeVector<std::uint32_t> seen_;
     std::uint32_t stamp_ = 0;
     std::vector<TriangleId> star_, changed_;
-    std::vector<std::uint32_t> offset_;
-    std::vector<std::array<std::uint32_t, 2>> opposite_;
+    detail::HugeVector<std::uint32_t> offset_;
+    detail::HugeVector<std::array<std::uint32_t, 2>> opposite_;
     std::vector<std::pair<TriangleId, std::uint32_t>> queue_;
     std::uint64_t flips_ = 0;
 };

@@ -290,12 +290,12 @@ private:
     std::vector<Vec2> wall_points_;
     std::vector<Triangle> wall_triangles_;
     detail::TriangleSoup walls_;
-    std::vector<Vec2> pts_;
-    std::vector<double> prho_;
-    std::vector<TriangleId> home_;
+    detail::HugeVector<Vec2> pts_;
+    detail::HugeVector<double> prho_;
+    detail::HugeVector<TriangleId> home_;
     size_t boundary_count_ = 0;
-    std::vector<FrontSegment> front_;
-    std::vector<std::uint32_t> stack_;
+    detail::HugeVector<FrontSegment> front_;
+    detail::HugeVector<std::uint32_t> stack_;
     CellGrid<GridPoint> points_;
     CellGrid<GridSegment> segments_;
 };

@@ -1,6 +1,8 @@
 #include "kernel/memory.hpp"
 
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -21,6 +23,44 @@ void advise_huge_pages(const void* p, std::size_t bytes) {
     (void)p;
     (void)bytes;
 #endif
+}
+
+void populate(void* p, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+    constexpr std::uintptr_t kPage = 4096;
+    if (p == nullptr || bytes < (std::size_t{1} << 20)) return;
+    const auto from = reinterpret_cast<std::uintptr_t>(p);
+    const std::uintptr_t begin = from & ~(kPage - 1);
+    const std::uintptr_t end = (from + bytes + kPage - 1) & ~(kPage - 1);
+    // Linux 5.14 on; a refusal leaves the pages to be made by faults, as before.
+    (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
+#else
+    (void)p;
+    (void)bytes;
+#endif
+}
+
+namespace {
+constexpr std::size_t kHugePage = std::size_t{2} << 20;
+constexpr std::size_t kSmall = std::size_t{1} << 20;
+}  // namespace
+
+void* allocate_huge(std::size_t bytes) {
+    if (bytes < kSmall) return ::operator new(bytes);
+    if (bytes > SIZE_MAX - kHugePage) throw std::bad_alloc();
+    const std::size_t size = (bytes + kHugePage - 1) & ~(kHugePage - 1);
+    void* p = std::aligned_alloc(kHugePage, size);
+    if (p == nullptr) throw std::bad_alloc();
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    (void)madvise(p, size, MADV_HUGEPAGE);
+#endif
+    return p;
+}
+
+void deallocate_huge(void* p, std::size_t bytes) noexcept {
+    if (p == nullptr) return;
+    if (bytes < kSmall) ::operator delete(p);
+    else std::free(p);
 }
 
 }  // namespace meshd::core::detail

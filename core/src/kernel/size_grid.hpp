@@ -117,17 +117,17 @@ private:
         return slots_[s].block;
     }
     void rehash(size_t n) {
-        std::vector<Slot> old = std::move(slots_);
+        HugeVector<Slot> old = std::move(slots_);
         slots_.assign(n, Slot{0, kNone});
         shift_ = 64 - std::countr_zero(n);
         for (const Slot& o : old)
             if (o.block != kNone) slots_[slot_of(o.key)] = o;
     }
 
-    std::vector<Slot> slots_;
+    HugeVector<Slot> slots_;
     int shift_ = 64;
-    std::vector<Block> blocks_;
-    std::vector<Entry> entries_;
+    HugeVector<Block> blocks_;
+    HugeVector<Entry> entries_;
 };
 
 using CellMap = CellGrid<std::uint32_t>;

@@ -230,7 +230,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     {
         // Along a Hilbert curve: neighbours in the mesh become neighbours in memory, which
         // the triangle order (order_by_largest_corner) and every later sweep profit from.
-        const std::vector<std::uint32_t> order = detail::hilbert_order(inner);
+        const detail::HugeVector<std::uint32_t> order = detail::hilbert_order(inner);
         std::vector<Vec2> sorted;
         detail::assign_huge(sorted, inner.size(), Vec2{});
         for (size_t i = 0; i < order.size(); ++i) sorted[i] = inner[order[i]];

@@ -60,7 +60,7 @@ public:
         detail::reserve_huge(tris_, 2 * n_ + 16);
         tris_.push_back({{static_cast<std::uint32_t>(n_), static_cast<std::uint32_t>(n_ + 1), static_cast<std::uint32_t>(n_ + 2)},
                          {kNoTriangle, kNoTriangle, kNoTriangle}, 0, 0});
-        soup_ = std::make_unique<detail::TriangleSoup>(pts_, tris_, true, &rank_);
+        soup_ = std::make_unique<detail::TriangleSoup>(pts_, tris_, true, rank_.data());
         detail::assign_huge(alias_, n_, std::uint32_t{0});
         for (size_t i = 0; i < n_; ++i) alias_[i] = static_cast<std::uint32_t>(i);
     }
@@ -88,7 +88,8 @@ public:
         // Flood fill of what goes: from the enclosing triangle's corner and from the outer
         // side of every loop segment, never across a loop segment. This region (the outside
         // and the holes) is usually much smaller than the domain.
-        std::vector<char> gone(tris_.size(), 0);
+        detail::HugeVector<char> gone;
+        detail::assign_huge(gone, tris_.size(), char{0});
         std::vector<TriangleId> stack;
         auto seed = [&](TriangleId t) {
             if (t == kNoTriangle || gone[t]) return;
@@ -115,20 +116,22 @@ public:
         // The kept triangles in the order of their largest corner's input index (what
         // order_by_largest_corner asks of a mesh), neighbours and corners renumbered: one
         // counting sort, into storage on huge pages.
-        auto corner = [&](const Triangle& t) { return std::max({rank_[t.v[0]], rank_[t.v[1]], rank_[t.v[2]]}); };
-        std::vector<std::uint32_t> start;
+        detail::HugeVector<std::uint32_t> start;
         detail::assign_huge(start, n_ + 1, std::uint32_t{0});
+        detail::HugeVector<TriangleId> remap;  // first each kept triangle's largest corner
+        detail::assign_huge(remap, tris_.size(), kNoTriangle);
         for (TriangleId t = 0; t < tris_.size(); ++t) {
             if (gone[t]) continue;
-            for (const auto v : tris_[t].v)
+            for (auto& v : tris_[t].v) {
                 MESHD_INTERNAL_CHECK(v < n_, "the enclosing triangle reached the domain: a loop is open");
-            ++start[corner(tris_[t]) + 1];
+                v = rank_[v];
+            }
+            remap[t] = std::max({tris_[t].v[0], tris_[t].v[1], tris_[t].v[2]});
+            ++start[remap[t] + 1];
         }
         for (size_t v = 0; v < n_; ++v) start[v + 1] += start[v];
-        std::vector<TriangleId> remap;
-        detail::assign_huge(remap, tris_.size(), kNoTriangle);
         for (TriangleId t = 0; t < tris_.size(); ++t)
-            if (!gone[t]) remap[t] = start[corner(tris_[t])]++;
+            if (!gone[t]) remap[t] = start[remap[t]]++;
         std::vector<Triangle> out;
         detail::assign_huge(out, static_cast<size_t>(start[n_]), Triangle{});
         for (TriangleId t = 0; t < tris_.size(); ++t) {
@@ -136,7 +139,6 @@ public:
             Triangle& o = out[remap[t]];
             o = tris_[t];
             for (auto& nb : o.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
-            for (auto& v : o.v) v = rank_[v];
         }
         TriangulationResult r;
         r.triangles = std::move(out);
@@ -322,9 +324,9 @@ private:
     std::vector<Vec2> pts_;
     std::vector<Triangle> tris_;
     std::unique_ptr<detail::TriangleSoup> soup_;
-    std::vector<std::uint32_t> rank_;     // internal index -> input index (and perturbation rank)
-    std::vector<std::uint32_t> inverse_;  // input index -> internal index
-    std::vector<std::uint32_t> alias_;    // internal index -> the internal index it coincides with
+    detail::HugeVector<std::uint32_t> rank_;     // internal index -> input index (and perturbation rank)
+    detail::HugeVector<std::uint32_t> inverse_;  // input index -> internal index
+    detail::HugeVector<std::uint32_t> alias_;    // internal index -> the internal index it coincides with
     std::vector<std::pair<std::uint32_t, std::uint32_t>> loop_edges_;
     std::vector<std::pair<TriangleId, std::uint32_t>> queue_;
     TriangulationStats stats_;

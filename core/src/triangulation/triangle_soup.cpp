@@ -82,7 +82,7 @@ bool TriangleSoup::illegal(TriangleId t, std::uint32_t i) const {
     const Vec2 a = pts_[T.v[0]], b = pts_[T.v[1]], c = pts_[T.v[2]], d = pts_[q];
     const int s = incircle(a, b, c, d);
     if (s != 0) return s > 0;
-    auto rank = [&](std::uint32_t v) { return rank_ ? (*rank_)[v] : v; };
+    auto rank = [&](std::uint32_t v) { return rank_ ? rank_[v] : v; };
     return detail::incircle_tie(a, b, c, d, rank(T.v[0]), rank(T.v[1]), rank(T.v[2]), rank(q)) > 0;
 }
 

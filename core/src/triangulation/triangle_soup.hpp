@@ -30,7 +30,7 @@ public:
     /// `rank`, when given, is the symbolic-perturbation rank of every vertex (default: the
     /// vertex index itself).
     TriangleSoup(const std::vector<Vec2>& points, std::vector<Triangle>& tris, bool track_vertices,
-                 const std::vector<std::uint32_t>* rank = nullptr)
+                 const std::uint32_t* rank = nullptr)
         : pts_(points), t_(tris), track_(track_vertices), rank_(rank) {
         if (track_) rebuild_vertex_index();
     }
@@ -125,7 +125,7 @@ private:
     const std::vector<Vec2>& pts_;
     std::vector<Triangle>& t_;
     bool track_;
-    const std::vector<std::uint32_t>* rank_;
+    const std::uint32_t* rank_;  // by vertex, or null
     std::vector<TriangleId> vtri_;
 };
 
