@@ -231,8 +231,16 @@ TEST(HugePages, AHugeVectorStartsOnAHugePageAndPopulateMakesItsPagesAtOnce) {
     std::uint64_t want = 0;
     EXPECT_TRUE(std::all_of(v.begin(), v.end(), [&](std::uint64_t x) { return x == ++want; }));
 
-    // Small ones come from operator new and work as any vector.
+    // Small ones come from operator new and work as any vector, aligned as their type asks
+    // (the interior grids' blocks are cache lines; UBSan reports a misaligned one).
     detail::HugeVector<int> small(1000, 5);
     EXPECT_EQ(std::count(small.begin(), small.end(), 5), 1000);
+    struct alignas(64) Line {
+        char bytes[64];
+    };
+    for (int i = 0; i < 8; ++i) {
+        detail::HugeVector<Line> lines(static_cast<std::size_t>(i) + 1);
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(lines.data()) % 64, 0u);
+    }
 }
 #endif

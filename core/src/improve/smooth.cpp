@@ -171,7 +171,7 @@ public:
 private:
     static std::vector<Vec2> points_of(const Mesh& m) {
         std::vector<Vec2> pts;
-        detail::reserve_huge(pts, m.point_count());
+        detail::reserve_filled(pts, m.point_count());
         for (std::uint32_t v = 0; v < m.point_count(); ++v) pts.push_back(m.point(v));
         return pts;
     }

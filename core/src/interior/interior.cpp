@@ -83,7 +83,9 @@ public:
             if (!front_[s].alive) continue;
             step(s);
         }
-        std::vector<Vec2> out(pts_.begin() + static_cast<std::ptrdiff_t>(boundary_count_), pts_.end());
+        std::vector<Vec2> out;
+        detail::reserve_filled(out, pts_.size() - boundary_count_);
+        out.insert(out.end(), pts_.begin() + static_cast<std::ptrdiff_t>(boundary_count_), pts_.end());
         return out;
     }
 

@@ -45,8 +45,10 @@ constexpr std::size_t kHugePage = std::size_t{2} << 20;
 constexpr std::size_t kSmall = std::size_t{1} << 20;
 }  // namespace
 
-void* allocate_huge(std::size_t bytes) {
-    if (bytes < kSmall) return ::operator new(bytes);
+void* allocate_huge(std::size_t bytes, std::size_t align) {
+    if (bytes < kSmall)
+        return align > __STDCPP_DEFAULT_NEW_ALIGNMENT__ ? ::operator new(bytes, std::align_val_t{align})
+                                                        : ::operator new(bytes);
     if (bytes > SIZE_MAX - kHugePage) throw std::bad_alloc();
     const std::size_t size = (bytes + kHugePage - 1) & ~(kHugePage - 1);
     void* p = std::aligned_alloc(kHugePage, size);
@@ -57,10 +59,11 @@ void* allocate_huge(std::size_t bytes) {
     return p;
 }
 
-void deallocate_huge(void* p, std::size_t bytes) noexcept {
+void deallocate_huge(void* p, std::size_t bytes, std::size_t align) noexcept {
     if (p == nullptr) return;
-    if (bytes < kSmall) ::operator delete(p);
-    else std::free(p);
+    if (bytes >= kSmall) std::free(p);
+    else if (align > __STDCPP_DEFAULT_NEW_ALIGNMENT__) ::operator delete(p, std::align_val_t{align});
+    else ::operator delete(p);
 }
 
 }  // namespace meshd::core::detail

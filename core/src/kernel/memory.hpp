@@ -14,6 +14,8 @@
 // reads through small pages cost far more than through huge ones.
 
 #include <cstddef>
+#include <cstdint>
+#include <new>
 #include <vector>
 
 namespace meshd::core::detail {
@@ -25,10 +27,10 @@ void advise_huge_pages(const void* p, std::size_t bytes);
 /// page); for storage about to be written whole. Best effort; nothing below 1 MiB.
 void populate(void* p, std::size_t bytes);
 
-/// Storage for `bytes`: from operator new below 1 MiB, else at a 2 MiB boundary, rounded
-/// up to whole 2 MiB pages, on huge pages where the kernel offers them.
-void* allocate_huge(std::size_t bytes);
-void deallocate_huge(void* p, std::size_t bytes) noexcept;
+/// Storage for `bytes` aligned to `align`: from operator new below 1 MiB, else at a 2 MiB
+/// boundary, rounded up to whole 2 MiB pages, on huge pages where the kernel offers them.
+void* allocate_huge(std::size_t bytes, std::size_t align);
+void deallocate_huge(void* p, std::size_t bytes, std::size_t align) noexcept;
 
 template <class T>
 struct HugeAllocator {
@@ -36,8 +38,11 @@ struct HugeAllocator {
     HugeAllocator() = default;
     template <class U>
     HugeAllocator(const HugeAllocator<U>&) noexcept {}
-    T* allocate(std::size_t n) { return static_cast<T*>(allocate_huge(n * sizeof(T))); }
-    void deallocate(T* p, std::size_t n) noexcept { deallocate_huge(p, n * sizeof(T)); }
+    T* allocate(std::size_t n) {
+        if (n > SIZE_MAX / sizeof(T)) throw std::bad_array_new_length();
+        return static_cast<T*>(allocate_huge(n * sizeof(T), alignof(T)));
+    }
+    void deallocate(T* p, std::size_t n) noexcept { deallocate_huge(p, n * sizeof(T), alignof(T)); }
     template <class U>
     bool operator==(const HugeAllocator<U>&) const noexcept { return true; }
 };
@@ -52,6 +57,15 @@ void reserve_huge(std::vector<T, A>& v, std::size_t n) {
     if (v.capacity() >= n) return;
     v.reserve(n);
     advise_huge_pages(v.data(), v.capacity() * sizeof(T));
+}
+
+/// reserve_huge(v, n) for storage about to be filled up to n: its pages are made now, in
+/// one call.
+template <class T, class A>
+void reserve_filled(std::vector<T, A>& v, std::size_t n) {
+    if (v.capacity() >= n) return;
+    reserve_huge(v, n);
+    populate(v.data(), n * sizeof(T));
 }
 
 /// v.assign(n, value) into storage on huge pages when it is large.

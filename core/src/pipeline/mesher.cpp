@@ -40,8 +40,8 @@ double ms_since(Clock::time_point t0) {
 void assemble(Mesh& m, const Domain& domain, const Discretisation& d, const Discretisation& edges,
               const std::vector<Vec2>& inner, std::vector<Triangle> triangles) {
     const size_t n = d.size() + inner.size();
-    detail::reserve_huge(m.x, n);
-    detail::reserve_huge(m.y, n);
+    detail::reserve_filled(m.x, n);
+    detail::reserve_filled(m.y, n);
     m.x.assign(d.x.begin(), d.x.end());
     m.y.assign(d.y.begin(), d.y.end());
     for (const Vec2& p : inner) {
@@ -242,6 +242,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     begin(Stage::Triangulation);
     t0 = Clock::now();
     std::vector<Vec2> pts = std::move(walls.points);
+    detail::reserve_filled(pts, pts.size() + inner.size());
     pts.insert(pts.end(), inner.begin(), inner.end());
     const std::vector<Constraint> cons = constraints_of(fixed);
     TriangulationResult tr = options.triangulator == Triangulator::Delaunay

@@ -43,7 +43,7 @@ public:
     IncrementalCdt(const std::vector<Vec2>& input, Observer* obs) : n_(input.size()), obs_(obs) {
         rank_ = detail::brio_order(input);
         detail::assign_huge(inverse_, n_, std::uint32_t{0});
-        detail::reserve_huge(pts_, n_ + 3);
+        detail::reserve_filled(pts_, n_ + 3);
         for (size_t k = 0; k < n_; ++k) {
             pts_.push_back(input[rank_[k]]);
             inverse_[rank_[k]] = static_cast<std::uint32_t>(k);
@@ -57,7 +57,7 @@ public:
         pts_.push_back({c.x + 2 * d, c.y - d});
         pts_.push_back({c.x, c.y + 2 * d});
         for (size_t k = n_; k < n_ + 3; ++k) rank_.push_back(static_cast<std::uint32_t>(k));
-        detail::reserve_huge(tris_, 2 * n_ + 16);
+        detail::reserve_filled(tris_, 2 * n_ + 16);  // about 2n triangles, the outside's included
         tris_.push_back({{static_cast<std::uint32_t>(n_), static_cast<std::uint32_t>(n_ + 1), static_cast<std::uint32_t>(n_ + 2)},
                          {kNoTriangle, kNoTriangle, kNoTriangle}, 0, 0});
         soup_ = std::make_unique<detail::TriangleSoup>(pts_, tris_, true, rank_.data());
