@@ -420,3 +420,24 @@ TEST(RandomDomains, LayersLeaveRoomBesideAnEmbeddedCurvesFreeEnd) {
         EXPECT_GT(seen, 0u) << seed;
     }
 }
+
+// Asking for a smallest angle never makes the smallest angle smaller beside boundary layers:
+// with min_angle_deg 28 these went from 24.6, 21.1 and 26.4 degrees to 6.8, 2.9 and 5.2, the
+// refinement's circumcentres landing next to the layers' column tops, in notches of their
+// outer edge that it cannot split.
+TEST(RandomDomains, AskingForASmallestAngleBesideLayersNeverLowersIt) {
+    for (const std::uint64_t seed : {83u, 222u, 224u}) {
+        const RandomCase rc = random_case(seed);
+        const Domain domain = build_domain(rc.domain);
+        const auto spec = layers_for(seed, rc, domain);
+        ASSERT_TRUE(spec) << seed;
+        MeshOptions o;
+        o.boundary_layers = {*spec};
+        const double without = smallest_free_angle(generate_mesh(domain, rc.density, o).mesh).first;
+        o.min_angle_deg = 28.0;
+        const MeshResult r = generate_mesh(domain, rc.density, o);
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+        const auto [with, at] = smallest_free_angle(r.mesh);
+        EXPECT_GE(with, without) << "seed " << seed << " at (" << at.x << ", " << at.y << ")";
+    }
+}
