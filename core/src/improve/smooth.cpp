@@ -553,4 +553,13 @@ std::uint64_t smooth(Mesh& m, int iterations, const Domain* domain, std::uint64_
     return moves;
 }
 
+std::uint64_t repair_angles(Mesh& m, const Domain* domain, std::uint64_t* flips, Observer* observer) {
+    if (m.triangles.empty()) return 0;
+    Smoother s(m, domain, observer);
+    const std::uint64_t moves = s.repair();
+    s.write_back();
+    if (flips) *flips += s.flips();
+    return moves;
+}
+
 }  // namespace meshd::core

@@ -23,4 +23,9 @@ namespace meshd::core {
 std::uint64_t smooth(Mesh& mesh, int iterations, const Domain* domain = nullptr, std::uint64_t* flips = nullptr,
                      Observer* observer = nullptr);
 
+/// The angle repair of smooth() alone, without sweeps: for a mesh that gained points after
+/// smoothing (min_angle_deg's refinement).
+std::uint64_t repair_angles(Mesh& mesh, const Domain* domain = nullptr, std::uint64_t* flips = nullptr,
+                            Observer* observer = nullptr);
+
 }  // namespace meshd::core

@@ -260,9 +260,13 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     t0 = Clock::now();
     if (options.smoothing_iterations > 0)
         r.stats.smoothing_moves = smooth(m, options.smoothing_iterations, &domain, &r.stats.smoothing_flips, observer);
-    if (options.min_angle_deg > 0.0)
+    if (options.min_angle_deg > 0.0) {
         r.stats.refinement_points =
             refine_min_angle(m, domain, rho, options.min_angle_deg, options.max_points, observer);
+        // The refinement's points were never smoothed: the angle repair once more for them.
+        if (r.stats.refinement_points > 0 && options.smoothing_iterations > 0)
+            r.stats.smoothing_moves += repair_angles(m, &domain, &r.stats.smoothing_flips, observer);
+    }
     r.timings.smoothing_ms = ms_since(t0);
 
     if (layers) add_layers(m, *layers);
