@@ -88,7 +88,6 @@ TEST(CellGrid, AQueryStopsAtTheFirstItemItsVisitorAccepts) {
 }
 
 #if defined(__linux__)
-// The VmFlags of the mapping holding address a in /proc/self/smaps.
 // The line of /proc/self/smaps starting with `field` for the mapping that holds address a.
 static std::string smaps_field_at(std::uintptr_t a, const std::string& field) {
     std::ifstream smaps("/proc/self/smaps");
@@ -115,22 +114,8 @@ static std::size_t smaps_kib(const std::string& line) {
     return kib;
 }
 
-static std::string vm_flags_at(std::uintptr_t a) {
-    std::ifstream smaps("/proc/self/smaps");
-    std::string line;
-    bool inside = false;
-    while (std::getline(smaps, line)) {
-        std::uintptr_t lo = 0, hi = 0;
-        char dash = 0;
-        std::istringstream head(line);
-        if (head >> std::hex >> lo >> dash >> hi && dash == '-') {
-            inside = a >= lo && a < hi;
-            continue;
-        }
-        if (inside && line.rfind("VmFlags:", 0) == 0) return line;
-    }
-    return {};
-}
+// The VmFlags of the mapping holding address a.
+static std::string vm_flags_at(std::uintptr_t a) { return smaps_field_at(a, "VmFlags:"); }
 
 // Segments of sizes from 1e-6 to 1 (as a wall's first layers beside its outer ones), many
 // sharing an end: each search must give exactly the pairs that a test of every pair gives,

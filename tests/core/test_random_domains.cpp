@@ -202,6 +202,21 @@ std::optional<BoundaryLayerSpec> layers_for(std::uint64_t seed, const RandomCase
     return spec;
 }
 
+// Seed's case with its boundary layers (layers_for), asserting it has curves to grow them on.
+struct LayeredCase {
+    RandomCase rc;
+    Domain domain;
+    MeshOptions options;
+};
+LayeredCase layered_case(std::uint64_t seed) {
+    LayeredCase c{random_case(seed), {}, {}};
+    c.domain = build_domain(c.rc.domain);
+    const auto spec = layers_for(seed, c.rc, c.domain);
+    EXPECT_TRUE(spec) << "seed " << seed << " has no curve for layers";
+    if (spec) c.options.boundary_layers = {*spec};
+    return c;
+}
+
 // The smallest angle of the isotropic triangles of m but for those filling a wedge of the
 // domain alone (both sides on curves), and where it is.
 std::pair<double, Vec2> smallest_free_angle(const Mesh& m) {
@@ -390,13 +405,9 @@ TEST(RandomDomains, AFixedPointsFanGivesUpATriangleItHasNoRoomFor) {
 // so the triangles at the end keep 30 degrees (seeds 67 and 72: 17.5 and 14.9 before).
 TEST(RandomDomains, LayersLeaveRoomBesideAnEmbeddedCurvesFreeEnd) {
     for (const std::uint64_t seed : {67u, 72u}) {
-        const RandomCase rc = random_case(seed);
-        const Domain domain = build_domain(rc.domain);
-        const auto spec = layers_for(seed, rc, domain);
-        ASSERT_TRUE(spec) << seed;
-        MeshOptions o;
-        o.boundary_layers = {*spec};
-        const MeshResult r = generate_mesh(domain, rc.density, o);
+        const LayeredCase lc = layered_case(seed);
+        const Domain& domain = lc.domain;
+        const MeshResult r = generate_mesh(domain, lc.rc.density, lc.options);
         const Mesh& m = r.mesh;
         EXPECT_TRUE(check_mesh(m, false).empty()) << seed;
         std::set<VertexId> on_loop, free_ends;
@@ -428,15 +439,10 @@ TEST(RandomDomains, LayersLeaveRoomBesideAnEmbeddedCurvesFreeEnd) {
 // beside a point that the refinement left where it was.
 TEST(RandomDomains, AskingForASmallestAngleBesideLayersNeverLowersIt) {
     for (const std::uint64_t seed : {83u, 222u, 224u, 225u}) {
-        const RandomCase rc = random_case(seed);
-        const Domain domain = build_domain(rc.domain);
-        const auto spec = layers_for(seed, rc, domain);
-        ASSERT_TRUE(spec) << seed;
-        MeshOptions o;
-        o.boundary_layers = {*spec};
-        const double without = smallest_free_angle(generate_mesh(domain, rc.density, o).mesh).first;
-        o.min_angle_deg = 28.0;
-        const MeshResult r = generate_mesh(domain, rc.density, o);
+        LayeredCase lc = layered_case(seed);
+        const double without = smallest_free_angle(generate_mesh(lc.domain, lc.rc.density, lc.options).mesh).first;
+        lc.options.min_angle_deg = 28.0;
+        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
         EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
         const auto [with, at] = smallest_free_angle(r.mesh);
         EXPECT_GE(with, without) << "seed " << seed << " at (" << at.x << ", " << at.y << ")";
