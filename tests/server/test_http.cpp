@@ -633,7 +633,7 @@ TEST_P(Http, JobsWaitForMemoryAndOneThatNeverFitsIs413) {
     auto server = serve({"--workers", "2", "--memory-budget-mb", "400"});
     ServerProcess& s = *server;
     auto c = client(s);
-    // About 2.3 million points: 16 MiB + 256 B per point is 600 MB, beyond 400.
+    // About 2.3 million points: 32 MiB + 256 B per point is 620 MB, beyond 400.
     auto big = c.Post("/v1/meshes", slow_request(0.0007), "application/json");
     ASSERT_TRUE(big);
     EXPECT_EQ(big->status, 413) << big->body;
@@ -641,7 +641,7 @@ TEST_P(Http, JobsWaitForMemoryAndOneThatNeverFitsIs413) {
     EXPECT_EQ(problem["type"], "/v1/problems/memory-budget");
     EXPECT_EQ(problem["pointer"], "/density");
 
-    // About 1.15 million points each (311 MB): one fits, two do not.
+    // About 1.15 million points each (329 MB): one fits, two do not.
     auto stage_of = [&](const std::string& id) {
         auto r = c.Get(("/v1/jobs/" + id).c_str());
         return r && r->status == 200 ? json::parse(r->body)["stage"].get<std::string>() : std::string("?");

@@ -64,13 +64,13 @@ if (dep) {
     if (probePort && probe?.httpGet?.port !== probePort.name && probe?.httpGet?.port !== probePort.containerPort)
       errors.push(`the ${name} probe must use the probe port`);
   // Memory: the running jobs' budget, the kept results and 256 MiB for the rest under the limit;
-  // the largest job allowed (16 MiB + 256 B per point, core::peak_bytes_for) within the budget.
+  // the largest job allowed (32 MiB + 256 B per point, core::peak_bytes_for) within the budget.
   const mib = (q) => { const m = /^(\d+)(Mi|Gi)$/.exec(q || ""); return m ? Number(m[1]) * (m[2] === "Gi" ? 1024 : 1) : NaN; };
   const limit = mib(c.resources?.limits?.memory);
   const budget = Number(env.MESHD_MEMORY_BUDGET_MB ?? 1536), results = Number(env.MESHD_RESULT_MEMORY_MB ?? 1024);
   if (!(budget + results + 256 <= limit))
     errors.push(`MESHD_MEMORY_BUDGET_MB (${budget}) + MESHD_RESULT_MEMORY_MB (${results}) + 256 must fit the memory limit (${limit} MiB)`);
-  const largest = 16 + (Number(env.MESHD_MAX_POINTS ?? 5000000) * 256) / 1048576;
+  const largest = 32 + (Number(env.MESHD_MAX_POINTS ?? 5000000) * 256) / 1048576;
   if (!(largest <= budget)) errors.push(`a job of MESHD_MAX_POINTS needs ${largest.toFixed(0)} MiB, more than MESHD_MEMORY_BUDGET_MB`);
   const drain = Number(env.MESHD_DRAIN_S ?? 30);
   if (!(pod.terminationGracePeriodSeconds >= drain + 5))
