@@ -10,8 +10,9 @@
 // 16 bytes past a 4 KiB page: an array of a few MiB in a std::vector mostly stays on small
 // pages. HugeVector (the stages' own arrays) allocates at a 2 MiB boundary, in whole huge
 // pages; assign_huge has the pages it is about to fill made at once (MADV_POPULATE_WRITE:
-// one call instead of a fault per page). On the benchmark machine's virtual CPU a 4 KiB fault costs about 10 us, and random
-// reads through small pages cost far more than through huge ones.
+// one call instead of a fault per page). On the benchmark machine's virtual CPU a 4 KiB
+// fault costs about 10 us, and random reads through small pages cost far more than through
+// huge ones.
 
 #include <cstddef>
 #include <cstdint>

@@ -113,35 +113,18 @@ public:
         }
         for (const TriangleId t : inner)
             MESHD_INTERNAL_CHECK(!gone[t], "the outside reached the domain: a loop is open or turns the wrong way");
-        // The kept triangles in the order of their largest corner's input index (what
-        // order_by_largest_corner asks of a mesh), neighbours and corners renumbered: one
-        // counting sort, into storage on huge pages.
-        detail::HugeVector<std::uint32_t> start;
-        detail::assign_huge(start, n_ + 1, std::uint32_t{0});
-        detail::HugeVector<TriangleId> remap;  // first each kept triangle's largest corner
-        detail::assign_huge(remap, tris_.size(), kNoTriangle);
+        // The kept triangles with their corners' input indices, in the order of the largest
+        // (what order_by_largest_corner asks of a mesh).
         for (TriangleId t = 0; t < tris_.size(); ++t) {
             if (gone[t]) continue;
             for (auto& v : tris_[t].v) {
                 MESHD_INTERNAL_CHECK(v < n_, "the enclosing triangle reached the domain: a loop is open");
                 v = rank_[v];
             }
-            remap[t] = std::max({tris_[t].v[0], tris_[t].v[1], tris_[t].v[2]});
-            ++start[remap[t] + 1];
         }
-        for (size_t v = 0; v < n_; ++v) start[v + 1] += start[v];
-        for (TriangleId t = 0; t < tris_.size(); ++t)
-            if (!gone[t]) remap[t] = start[remap[t]]++;
-        std::vector<Triangle> out;
-        detail::assign_huge(out, static_cast<size_t>(start[n_]), Triangle{});
-        for (TriangleId t = 0; t < tris_.size(); ++t) {
-            if (gone[t]) continue;
-            Triangle& o = out[remap[t]];
-            o = tris_[t];
-            for (auto& nb : o.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];
-        }
+        detail::order_by_largest_corner(tris_, n_, gone.data());
         TriangulationResult r;
-        r.triangles = std::move(out);
+        r.triangles = std::move(tris_);
         r.alias.resize(n_);
         for (size_t i = 0; i < n_; ++i) r.alias[i] = rank_[alias_[inverse_[i]]];
         r.stats = stats_;

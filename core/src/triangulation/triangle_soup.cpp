@@ -268,20 +268,26 @@ void TriangleSoup::split_edge(TriangleId t, std::uint32_t i, std::uint32_t p, st
 }
 
 
-void order_by_largest_corner(std::vector<Triangle>& tris, size_t point_count) {
+void order_by_largest_corner(std::vector<Triangle>& tris, size_t point_count, const char* gone) {
     auto corner = [](const Triangle& t) { return std::max({t.v[0], t.v[1], t.v[2]}); };
-    if (std::is_sorted(tris.begin(), tris.end(), [&](const Triangle& a, const Triangle& b) { return corner(a) < corner(b); }))
+    auto kept = [&](TriangleId t) { return gone == nullptr || !gone[t]; };
+    if (gone == nullptr &&
+        std::is_sorted(tris.begin(), tris.end(), [&](const Triangle& a, const Triangle& b) { return corner(a) < corner(b); }))
         return;  // the Delaunay triangulator's output is
-    std::vector<std::uint32_t> start;
+    // A counting sort, into storage on huge pages.
+    HugeVector<std::uint32_t> start;
     assign_huge(start, point_count + 1, std::uint32_t{0});
-    for (const Triangle& t : tris) ++start[corner(t) + 1];
+    for (TriangleId t = 0; t < tris.size(); ++t)
+        if (kept(t)) ++start[corner(tris[t]) + 1];
     for (size_t v = 0; v < point_count; ++v) start[v + 1] += start[v];
-    std::vector<TriangleId> remap;
-    assign_huge(remap, tris.size(), TriangleId{0});
-    for (TriangleId t = 0; t < tris.size(); ++t) remap[t] = start[corner(tris[t])]++;
+    HugeVector<TriangleId> remap;
+    assign_huge(remap, tris.size(), kNoTriangle);
+    for (TriangleId t = 0; t < tris.size(); ++t)
+        if (kept(t)) remap[t] = start[corner(tris[t])]++;
     std::vector<Triangle> out;
-    assign_huge(out, tris.size(), Triangle{});
+    assign_huge(out, static_cast<size_t>(start[point_count]), Triangle{});
     for (TriangleId t = 0; t < tris.size(); ++t) {
+        if (!kept(t)) continue;
         Triangle& o = out[remap[t]];
         o = tris[t];
         for (auto& nb : o.n) nb = nb == kNoTriangle ? kNoTriangle : remap[nb];

@@ -131,6 +131,8 @@ private:
 
 /// Puts triangles in the order of their largest corner index (neighbours renumbered): with
 /// points in a spatial order, the triangles around a point then lie near each other in memory.
-void order_by_largest_corner(std::vector<Triangle>& tris, size_t point_count);
+/// With `gone` (a flag per triangle), the flagged ones are dropped as well, and links to them
+/// become kNoTriangle; their corners need not be below point_count.
+void order_by_largest_corner(std::vector<Triangle>& tris, size_t point_count, const char* gone = nullptr);
 
 }  // namespace meshd::core::detail
