@@ -10,6 +10,8 @@
 #include <ostream>
 #include <set>
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "meshd/api/writers.hpp"
@@ -29,6 +31,57 @@ struct Num {
     }
 };
 inline std::ostream& operator<<(std::ostream& os, const Num& n) { return os.write(n.buf, static_cast<std::streamsize>(n.len)); }
+
+// Text into a stream through a buffer of its own: numbers by to_chars and runs of
+// characters by memcpy, the stream seeing one write per 64 KiB. Through the stream's own
+// operators each token paid a sentry and a locale lookup, a tenth of a small request's time
+// in the server. Flushes when destroyed.
+class TextOut {
+public:
+    explicit TextOut(std::ostream& os) : os_(os) {}
+    TextOut(const TextOut&) = delete;
+    TextOut& operator=(const TextOut&) = delete;
+    ~TextOut() { flush(); }
+
+    TextOut& operator<<(char c) {
+        room(1);
+        buf_[n_++] = c;
+        return *this;
+    }
+    TextOut& operator<<(std::string_view s) {
+        if (s.size() > sizeof buf_ / 2) {
+            flush();
+            os_.write(s.data(), static_cast<std::streamsize>(s.size()));
+            return *this;
+        }
+        room(s.size());
+        std::memcpy(buf_ + n_, s.data(), s.size());
+        n_ += s.size();
+        return *this;
+    }
+    TextOut& operator<<(const char* s) { return *this << std::string_view(s); }
+    TextOut& operator<<(const std::string& s) { return *this << std::string_view(s); }
+    TextOut& operator<<(const Num& v) { return *this << std::string_view(v.buf, v.len); }
+    template <class I>
+        requires std::is_integral_v<I>
+    TextOut& operator<<(I v) {
+        room(24);
+        n_ = static_cast<size_t>(std::to_chars(buf_ + n_, buf_ + sizeof buf_, v).ptr - buf_);
+        return *this;
+    }
+    void flush() {
+        if (n_) os_.write(buf_, static_cast<std::streamsize>(n_));
+        n_ = 0;
+    }
+
+private:
+    void room(size_t k) {
+        if (n_ + k > sizeof buf_) flush();
+    }
+    std::ostream& os_;
+    size_t n_ = 0;
+    char buf_[std::size_t{1} << 16];
+};
 
 template <class T>
 void put_be(std::ostream& os, T v) {

@@ -49,8 +49,9 @@ std::string metrics_json(const MeshResult& r) {
     return j.dump();
 }
 
-void write_json(const MeshResult& r, std::ostream& os, bool sizes) {
+void write_json(const MeshResult& r, std::ostream& stream, bool sizes) {
     const Mesh& m = r.mesh;
+    TextOut os(stream);
     const bool quadratic = m.order() == 2;
     // Second order: the edge nodes follow the vertices; triangles list six nodes and edges
     // three (their ends, then their middle node).

@@ -19,7 +19,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <memory>
 #include <queue>
 #include <vector>
 
@@ -124,15 +123,12 @@ struct Segment {
 struct Cell {
     Vec2 lo;
     double size;
-    int winding;                     // of the outlines around the sample
-    double f;                        // points per area at the sample (or inherited)
-    double count;                    // points forecast in the cell
-    double priority;                 // its claim to be split next
-    std::vector<std::uint32_t> segs; // outline segments through the cell
-};
-
-struct ByPriority {
-    bool operator()(const Cell* a, const Cell* b) const { return a->priority < b->priority; }
+    int winding;             // of the outlines around the sample
+    double f;                // points per area at the sample (or inherited)
+    double count;            // points forecast in the cell
+    double priority;         // its claim to be split next
+    std::uint32_t segs_from; // the outline segments through the cell: segs_from.. in the pool
+    std::uint32_t segs_count;
 };
 
 Vec2 sample_of(Vec2 lo, double size) { return {lo.x + kSampleAt * size, lo.y + kSampleAt * size}; }
@@ -197,7 +193,12 @@ double forecast_interior(const Domain& domain, const SizeField& rho, size_t budg
             return false;
         }
     };
-    std::vector<std::unique_ptr<Cell>> cells;
+    // The cells in one array and their segment lists in one pool (a split cell's list is
+    // left in place): a small mesh's forecast makes some 10^4 cells, and an allocation
+    // each cost more than their samples.
+    std::vector<Cell> cells;
+    std::vector<std::uint32_t> pool;
+    cells.reserve(std::min<size_t>(budget, 4096) + 4);
     // Every cell made is a sample, whether rho was evaluated there or not.
     auto finish = [&](Cell& c, double inherited_f) {
         ++samples;
@@ -217,21 +218,23 @@ double forecast_interior(const Domain& domain, const SizeField& rho, size_t budg
             // sample was inside yet).
             c.f = inherited_f;
             c.count = 0.0;
-            if (c.segs.empty()) c.priority = 0.0;
+            if (c.segs_count == 0) c.priority = 0.0;
             else if (inherited_f > 0.0) c.priority = area * inherited_f;
             else if (inside_area > 0.0) c.priority = area * inside_count / inside_area;
             else c.priority = 1e300 * area;
         }
     };
 
-    auto root = std::make_unique<Cell>();
-    root->lo = {centre.x - 0.5 * size, centre.y - 0.5 * size};
-    root->size = size;
-    root->segs.resize(segs.size());
-    for (std::uint32_t i = 0; i < segs.size(); ++i) root->segs[i] = i;
     {
+        Cell root{};
+        root.lo = {centre.x - 0.5 * size, centre.y - 0.5 * size};
+        root.size = size;
+        pool.resize(segs.size());
+        for (std::uint32_t i = 0; i < segs.size(); ++i) pool[i] = i;
+        root.segs_from = 0;
+        root.segs_count = static_cast<std::uint32_t>(segs.size());
         // Winding number around the sample by a ray towards +x.
-        const Vec2 p = sample_of(root->lo, size);
+        const Vec2 p = sample_of(root.lo, size);
         int w = 0;
         for (const Segment& s : segs) {
             if (s.a.y <= p.y) {
@@ -240,41 +243,45 @@ double forecast_interior(const Domain& domain, const SizeField& rho, size_t budg
                 --w;
             }
         }
-        root->winding = w;
+        root.winding = w;
+        finish(root, 0.0);
+        cells.push_back(root);
     }
-    finish(*root, 0.0);
-    std::priority_queue<Cell*, std::vector<Cell*>, ByPriority> queue;
-    queue.push(root.get());
-    cells.push_back(std::move(root));
+    auto by_priority = [&cells](std::uint32_t a, std::uint32_t b) { return cells[a].priority < cells[b].priority; };
+    std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, decltype(by_priority)> queue(by_priority);
+    queue.push(0);
 
     while (!queue.empty() && samples + 4 <= budget &&
-           queue.top()->priority > std::max(kResolved, kRelativeResolution * leaves)) {
-        Cell* parent = queue.top();
+           cells[queue.top()].priority > std::max(kResolved, kRelativeResolution * leaves)) {
+        const std::uint32_t p = queue.top();
         queue.pop();
-        const double half = 0.5 * parent->size;
-        if (!(half > 0.0) || parent->lo.x + half == parent->lo.x || parent->lo.y + half == parent->lo.y) continue;
-        const Vec2 from = sample_of(parent->lo, parent->size);
+        const Cell parent = cells[p];
+        const double half = 0.5 * parent.size;
+        if (!(half > 0.0) || parent.lo.x + half == parent.lo.x || parent.lo.y + half == parent.lo.y) continue;
+        const Vec2 from = sample_of(parent.lo, parent.size);
         for (int k = 0; k < 4; ++k) {
-            auto child = std::make_unique<Cell>();
-            child->lo = {parent->lo.x + (k & 1) * half, parent->lo.y + (k >> 1) * half};
-            child->size = half;
-            const Vec2 to = sample_of(child->lo, half);
-            int w = parent->winding;
-            for (std::uint32_t i : parent->segs) {
+            Cell child{};
+            child.lo = {parent.lo.x + (k & 1) * half, parent.lo.y + (k >> 1) * half};
+            child.size = half;
+            child.segs_from = static_cast<std::uint32_t>(pool.size());
+            const Vec2 to = sample_of(child.lo, half);
+            int w = parent.winding;
+            for (std::uint32_t j = 0; j < parent.segs_count; ++j) {
+                const std::uint32_t i = pool[parent.segs_from + j];
                 w += crossing(segs[i], from, to);
-                if (meets(segs[i], child->lo, half)) child->segs.push_back(i);
+                if (meets(segs[i], child.lo, half)) pool.push_back(i);
             }
-            child->winding = w;
-            finish(*child, parent->f);
-            queue.push(child.get());
-            cells.push_back(std::move(child));
+            child.segs_count = static_cast<std::uint32_t>(pool.size()) - child.segs_from;
+            child.winding = w;
+            finish(child, parent.f);
+            queue.push(static_cast<std::uint32_t>(cells.size()));
+            cells.push_back(child);
         }
-        leaves -= parent->count;
-        parent->count = parent->priority = 0.0;  // now held by its children
-        std::vector<std::uint32_t>().swap(parent->segs);
+        leaves -= parent.count;
+        cells[p].count = cells[p].priority = 0.0;  // now held by its children
     }
     double total = 0.0;
-    for (const auto& c : cells) total += c->count;  // inner cells gave theirs to their children
+    for (const Cell& c : cells) total += c.count;  // inner cells gave theirs to their children
     return total;
 }
 
