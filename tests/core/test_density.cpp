@@ -5,11 +5,15 @@
 #include <numbers>
 #include <thread>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <random>
 
 #include "fixtures.hpp"
 #include "boundary/boundary.hpp"
+#include "density/inverse_distance.hpp"
 #include "density/size_field.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/mesher.hpp"
@@ -281,6 +285,51 @@ TEST(InverseDistance, FewSourcesAreSummedTermByTerm) {
                 EXPECT_NEAR(field(far) / field.exact(far), 1.0, 1e-13) << n << " sources, far away";
         }
     }
+}
+
+// The sum on 256-bit registers (where the processor has AVX) does the 128-bit sum's operations
+// lane for lane, so fields and meshes do not depend on the machine: the same value to the
+// bit at every query, the same mesh point for point.
+TEST(InverseDistance, WideAndNarrowSumsAgreeToTheBit) {
+    const bool wide = detail::wide_sums(true);
+    std::printf("[ info ] 256-bit sums %s on this processor\n", wide ? "in use" : "not available");
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (size_t n : {size_t{4}, size_t{5}, size_t{7}, size_t{150}, size_t{1001}, kDirectSources}) {
+        std::vector<Vec2> a(n);
+        std::vector<double> len(n);
+        for (size_t i = 0; i < n; ++i) {
+            a[i] = {u(rng), u(rng)};
+            len[i] = 0.01 + u(rng);
+        }
+        const InverseDistanceField field(a, len);
+        for (int k = 0; k < 2000; ++k) {
+            // Anywhere around the sources, a hair from one of them, or on one.
+            const Vec2 p = k % 3 == 0   ? Vec2{3.0 * u(rng) - 1.0, 3.0 * u(rng) - 1.0}
+                           : k % 3 == 1 ? a[k % n] + Vec2{1e-9 * u(rng), -1e-9 * u(rng)}
+                                        : a[k % n];
+            detail::wide_sums(false);
+            const double narrow = field(p);
+            detail::wide_sums(true);
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(field(p)), std::bit_cast<std::uint64_t>(narrow))
+                << n << " sources, query " << k;
+        }
+    }
+    // A whole mesh with eq. 6.1 inside (the paper's Fig. 9 setting).
+    const Domain d = build_domain(naca_in_circle("0012", 20.0));
+    DensitySpec spec;
+    spec.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
+                   {"wing", std::string("0.05*sqrt((x+0.01)^2+y^2)")}};
+    spec.min = 1e-3;
+    detail::wide_sums(false);
+    const Mesh narrow = generate_mesh(d, spec).mesh;
+    detail::wide_sums(true);
+    const Mesh wider = generate_mesh(d, spec).mesh;
+    ASSERT_EQ(wider.point_count(), narrow.point_count());
+    ASSERT_GT(narrow.point_count(), 1000u);
+    for (VertexId v = 0; v < narrow.point_count(); ++v) ASSERT_EQ(wider.point(v), narrow.point(v)) << "point " << v;
+    ASSERT_EQ(wider.triangles.size(), narrow.triangles.size());
+    for (size_t t = 0; t < narrow.triangles.size(); ++t) ASSERT_EQ(wider.triangles[t].v, narrow.triangles[t].v);
 }
 
 TEST(InverseDistance, TreecodeMeetsItsBoundAgainstTheExactFormula) {

@@ -10,6 +10,10 @@
 #include <emmintrin.h>
 #include <xmmintrin.h>
 #endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define MESHD_AVX_SUM 1
+#endif
 
 #include "kernel/kdtree.hpp"
 #include "meshd/core/errors.hpp"
@@ -22,7 +26,98 @@ double delta_of(double theta) {
     return theta * theta * (1.0 + theta) / ((1.0 - theta) * (1.0 - theta) * (1.0 - theta));
 }
 
+#if defined(__SSE2__)
+// Four sources per step: the squared distances (in double) become floats, whose square root
+// and reciprocal take a quarter of the divider's time the doubles' take (the sum is bound by
+// it); each weight 1/d is then within 3 float roundings (2e-7) of its exact value, so the
+// ratio is within 4e-7, and the sums stay double. Sums the sources [0, 4 floor(n / 4));
+// false when a squared distance left the floats' normal range (a query on a source, or
+// absurdly far): the caller then sums in double.
+bool sum_by_fours_sse2(const double* x, const double* y, const double* r, size_t n, Vec2 p, double& num,
+                       double& den) {
+    const __m128d px = _mm_set1_pd(p.x), py = _mm_set1_pd(p.y);
+    const __m128 one = _mm_set1_ps(1.0f), low = _mm_set1_ps(std::numeric_limits<float>::min()),
+                 high = _mm_set1_ps(std::numeric_limits<float>::max());
+    __m128d num0 = _mm_setzero_pd(), den0 = _mm_setzero_pd(), num1 = _mm_setzero_pd(), den1 = _mm_setzero_pd();
+    __m128 out = _mm_setzero_ps();
+    for (size_t i = 0; i + 4 <= n; i += 4) {
+        const __m128d dx0 = _mm_sub_pd(px, _mm_loadu_pd(x + i)), dy0 = _mm_sub_pd(py, _mm_loadu_pd(y + i));
+        const __m128d dx1 = _mm_sub_pd(px, _mm_loadu_pd(x + i + 2)), dy1 = _mm_sub_pd(py, _mm_loadu_pd(y + i + 2));
+        const __m128d d0 = _mm_add_pd(_mm_mul_pd(dx0, dx0), _mm_mul_pd(dy0, dy0));
+        const __m128d d1 = _mm_add_pd(_mm_mul_pd(dx1, dx1), _mm_mul_pd(dy1, dy1));
+        const __m128 d = _mm_movelh_ps(_mm_cvtpd_ps(d0), _mm_cvtpd_ps(d1));
+        out = _mm_or_ps(out, _mm_or_ps(_mm_cmplt_ps(d, low), _mm_cmpgt_ps(d, high)));
+        const __m128 w = _mm_div_ps(one, _mm_sqrt_ps(d));
+        const __m128d w0 = _mm_cvtps_pd(w), w1 = _mm_cvtps_pd(_mm_movehl_ps(w, w));
+        den0 = _mm_add_pd(den0, w0);
+        den1 = _mm_add_pd(den1, w1);
+        num0 = _mm_add_pd(num0, _mm_mul_pd(_mm_loadu_pd(r + i), w0));
+        num1 = _mm_add_pd(num1, _mm_mul_pd(_mm_loadu_pd(r + i + 2), w1));
+    }
+    if (_mm_movemask_ps(out) != 0) return false;
+    alignas(16) double lanes[2];
+    _mm_store_pd(lanes, _mm_add_pd(num0, num1));
+    num = lanes[0] + lanes[1];
+    _mm_store_pd(lanes, _mm_add_pd(den0, den1));
+    den = lanes[0] + lanes[1];
+    return true;
+}
+#endif
+
+#if defined(MESHD_AVX_SUM)
+// sum_by_fours_sse2 on 256-bit registers where the processor has them: the
+// same operations on the same lanes in the same order (lane k of each sum takes the sources
+// k, k + 4, k + 8, ..., as the two 128-bit sums' lanes do, and they are added in the same
+// pairs), so the result is the same to the bit, in about half the instructions. Sums the
+// sources [0, 4 floor(n / 4)); false when a squared distance left the floats' normal range.
+__attribute__((target("avx"))) bool sum_by_fours_avx(const double* x, const double* y, const double* r, size_t n,
+                                                      Vec2 p, double& num, double& den) {
+    const __m256d px = _mm256_set1_pd(p.x), py = _mm256_set1_pd(p.y);
+    const __m128 one = _mm_set1_ps(1.0f), low = _mm_set1_ps(std::numeric_limits<float>::min()),
+                 high = _mm_set1_ps(std::numeric_limits<float>::max());
+    __m256d num4 = _mm256_setzero_pd(), den4 = _mm256_setzero_pd();
+    __m128 out = _mm_setzero_ps();
+    for (size_t i = 0; i + 4 <= n; i += 4) {
+        const __m256d dx = _mm256_sub_pd(px, _mm256_loadu_pd(x + i)), dy = _mm256_sub_pd(py, _mm256_loadu_pd(y + i));
+        const __m128 d = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
+        out = _mm_or_ps(out, _mm_or_ps(_mm_cmplt_ps(d, low), _mm_cmpgt_ps(d, high)));
+        const __m256d w = _mm256_cvtps_pd(_mm_div_ps(one, _mm_sqrt_ps(d)));
+        den4 = _mm256_add_pd(den4, w);
+        num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i), w));
+    }
+    if (_mm_movemask_ps(out) != 0) return false;
+    alignas(16) double lanes[2];
+    _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(num4), _mm256_extractf128_pd(num4, 1)));
+    num = lanes[0] + lanes[1];
+    _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(den4), _mm256_extractf128_pd(den4, 1)));
+    den = lanes[0] + lanes[1];
+    return true;
+}
+
+const bool kHasAvx = __builtin_cpu_supports("avx");
+bool g_wide = kHasAvx;
+#endif
+
+#if defined(__SSE2__)
+bool sum_by_fours(const double* x, const double* y, const double* r, size_t n, Vec2 p, double& num, double& den) {
+#if defined(MESHD_AVX_SUM)
+    if (g_wide) return sum_by_fours_avx(x, y, r, n, p, num, den);
+#endif
+    return sum_by_fours_sse2(x, y, r, n, p, num, den);
+}
+#endif
+
 }  // namespace
+
+bool detail::wide_sums(bool allow) {
+#if defined(MESHD_AVX_SUM)
+    g_wide = allow && kHasAvx;
+    return g_wide;
+#else
+    (void)allow;
+    return false;
+#endif
+}
 
 InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector<double> values,
                                            double tolerance)
@@ -91,37 +186,8 @@ double InverseDistanceField::direct(Vec2 p) const {
     double num = 0.0, den = 0.0;
     size_t i = 0;
 #if defined(__SSE2__)
-    // Four sources per step: the squared distances (in double) become floats, whose square
-    // root and reciprocal take a quarter of the divider's time the doubles' take (the sum is
-    // bound by it); each weight 1/d is then within 3 float roundings (2e-7) of its exact
-    // value, so the ratio is within 4e-7, and the sums stay double. A squared distance
-    // outside the floats' normal range (a query on a source, or absurdly far) sends the
-    // query to exact(), in double.
-    const __m128d px = _mm_set1_pd(p.x), py = _mm_set1_pd(p.y);
-    const __m128 one = _mm_set1_ps(1.0f), low = _mm_set1_ps(std::numeric_limits<float>::min()),
-                 high = _mm_set1_ps(std::numeric_limits<float>::max());
-    __m128d num0 = _mm_setzero_pd(), den0 = _mm_setzero_pd(), num1 = _mm_setzero_pd(), den1 = _mm_setzero_pd();
-    __m128 out = _mm_setzero_ps();
-    for (; i + 4 <= n; i += 4) {
-        const __m128d dx0 = _mm_sub_pd(px, _mm_loadu_pd(x + i)), dy0 = _mm_sub_pd(py, _mm_loadu_pd(y + i));
-        const __m128d dx1 = _mm_sub_pd(px, _mm_loadu_pd(x + i + 2)), dy1 = _mm_sub_pd(py, _mm_loadu_pd(y + i + 2));
-        const __m128d d0 = _mm_add_pd(_mm_mul_pd(dx0, dx0), _mm_mul_pd(dy0, dy0));
-        const __m128d d1 = _mm_add_pd(_mm_mul_pd(dx1, dx1), _mm_mul_pd(dy1, dy1));
-        const __m128 d = _mm_movelh_ps(_mm_cvtpd_ps(d0), _mm_cvtpd_ps(d1));
-        out = _mm_or_ps(out, _mm_or_ps(_mm_cmplt_ps(d, low), _mm_cmpgt_ps(d, high)));
-        const __m128 w = _mm_div_ps(one, _mm_sqrt_ps(d));
-        const __m128d w0 = _mm_cvtps_pd(w), w1 = _mm_cvtps_pd(_mm_movehl_ps(w, w));
-        den0 = _mm_add_pd(den0, w0);
-        den1 = _mm_add_pd(den1, w1);
-        num0 = _mm_add_pd(num0, _mm_mul_pd(_mm_loadu_pd(r + i), w0));
-        num1 = _mm_add_pd(num1, _mm_mul_pd(_mm_loadu_pd(r + i + 2), w1));
-    }
-    if (_mm_movemask_ps(out) != 0) return exact(p);
-    alignas(16) double lanes[2];
-    _mm_store_pd(lanes, _mm_add_pd(num0, num1));
-    num = lanes[0] + lanes[1];
-    _mm_store_pd(lanes, _mm_add_pd(den0, den1));
-    den = lanes[0] + lanes[1];
+    if (!sum_by_fours(x, y, r, n, p, num, den)) return exact(p);
+    i = n & ~size_t{3};
 #endif
     for (; i < n; ++i) {
         const double dx = p.x - x[i], dy = p.y - y[i];
