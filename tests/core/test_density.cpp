@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <random>
+#include <utility>
 
 #include "fixtures.hpp"
 #include "boundary/boundary.hpp"
@@ -252,18 +253,27 @@ TEST(SizeField, SpecErrors) {
     EXPECT_EQ(size_field_error(spec, d).kind(), GeometryErrorKind::DensityInvalid);
 }
 
+namespace {
+// n sources of eq. 6.1 in the unit square with values in [0.01, 1.01).
+std::pair<std::vector<Vec2>, std::vector<double>> random_sources(size_t n, std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<Vec2> a(n);
+    std::vector<double> len(n);
+    for (size_t i = 0; i < n; ++i) {
+        a[i] = {u(rng), u(rng)};
+        len[i] = 0.01 + u(rng);
+    }
+    return {a, len};
+}
+}  // namespace
+
 // Below kDirectSources the field is the formula summed in another order: equal to the
 // one-term-at-a-time sum but for rounding, wherever the point; above it, the treecode.
 TEST(InverseDistance, FewSourcesAreSummedTermByTerm) {
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (size_t n : {size_t{1}, size_t{3}, size_t{4}, size_t{7}, size_t{150}, kDirectSources, kDirectSources + 1}) {
-        std::vector<Vec2> a(n);
-        std::vector<double> len(n);
-        for (size_t i = 0; i < n; ++i) {
-            a[i] = {u(rng), u(rng)};
-            len[i] = 0.01 + u(rng);
-        }
+        const auto [a, len] = random_sources(n, rng);
         const InverseDistanceField field(a, len);
         double worst = 0.0;
         for (int k = 0; k < 500; ++k) {
@@ -296,12 +306,7 @@ TEST(InverseDistance, WideAndNarrowSumsAgreeToTheBit) {
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (size_t n : {size_t{4}, size_t{5}, size_t{7}, size_t{150}, size_t{1001}, kDirectSources}) {
-        std::vector<Vec2> a(n);
-        std::vector<double> len(n);
-        for (size_t i = 0; i < n; ++i) {
-            a[i] = {u(rng), u(rng)};
-            len[i] = 0.01 + u(rng);
-        }
+        const auto [a, len] = random_sources(n, rng);
         const InverseDistanceField field(a, len);
         for (int k = 0; k < 2000; ++k) {
             // Anywhere around the sources, a hair from one of them, or on one.
