@@ -196,7 +196,7 @@ double forecast_interior(const Domain& domain, const SizeField& rho, size_t budg
         }
     };
     // The cells in one array and their segment lists in one pool (a split cell's list is
-    // left in place): a small mesh's forecast makes some 10^4 cells, and an allocation
+    // left in place): a small mesh's forecast makes thousands of cells, and an allocation
     // each cost more than their samples.
     std::vector<Cell> cells;
     std::vector<std::uint32_t> pool;
