@@ -21,11 +21,13 @@
 
 namespace meshd::core {
 
-/// Up to this many sources eq. 6.1 is summed term by term, four terms per instruction. The
-/// treecode at the tolerance 1e-3 accepts a node only 45 of its radii away, so it costs
-/// about 1 us at 150 sources and 5 us from 1,500 on, the plain sum 0.86 ns per source
-/// (bench/bench_boundary.cpp, BM_InverseDistance, 2026-12-02): they meet near 5,800.
-inline constexpr size_t kDirectSources = 4096;
+/// Up to this many sources eq. 6.1 is summed term by term, four or eight terms per
+/// instruction. The treecode at the tolerance 1e-3 accepts a node only 45 of its radii away,
+/// so it costs about 1 us at 150 sources and 4.4 to 4.7 us from 1,500 to 15,000; the plain sum
+/// 0.51 ns per source on 256-bit registers (bench/bench_boundary.cpp, BM_InverseDistance,
+/// 2026-12-03): they meet near 9,000. (On a processor without AVX the sum costs 1.28 ns per
+/// source, and the treecode would be the faster from about 3,500.)
+inline constexpr size_t kDirectSources = 8192;
 
 namespace detail {
 /// Whether the term-by-term sum runs on 256-bit registers (where the processor has AVX):
