@@ -3,6 +3,7 @@
 #include "density/inverse_distance.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -115,14 +116,19 @@ __attribute__((target("avx"))) bool sum_by_fours_avx(const double* x, const doub
     return true;
 }
 
-const bool kHasAvx = __builtin_cpu_supports("avx");
-bool g_wide = kHasAvx;
+// (A static initialiser may run before libgcc's own: __builtin_cpu_init first.)
+bool has_avx() {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx");
+}
+const bool kHasAvx = has_avx();
+std::atomic<bool> g_wide{kHasAvx};  // tests switch it (wide_sums) while no mesh is made
 #endif
 
 #if defined(__SSE2__)
 bool sum_by_fours(const double* x, const double* y, const double* r, size_t n, Vec2 p, double& num, double& den) {
 #if defined(MESHD_AVX_SUM)
-    if (g_wide) return sum_by_fours_avx(x, y, r, n, p, num, den);
+    if (g_wide.load(std::memory_order_relaxed)) return sum_by_fours_avx(x, y, r, n, p, num, den);
 #endif
     return sum_by_fours_sse2(x, y, r, n, p, num, den);
 }
@@ -132,8 +138,8 @@ bool sum_by_fours(const double* x, const double* y, const double* r, size_t n, V
 
 bool detail::wide_sums(bool allow) {
 #if defined(MESHD_AVX_SUM)
-    g_wide = allow && kHasAvx;
-    return g_wide;
+    g_wide.store(allow && kHasAvx, std::memory_order_relaxed);
+    return allow && kHasAvx;
 #else
     (void)allow;
     return false;
