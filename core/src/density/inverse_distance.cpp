@@ -98,7 +98,6 @@ __attribute__((target("avx"))) bool sum_by_fours_avx(const double* x, const doub
         den4 = _mm256_add_pd(den4, w1);
         num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i + 4), w1));
     }
-    if (_mm256_movemask_ps(out8) != 0) return false;
     for (; i + 4 <= n; i += 4) {
         const __m256d dx = _mm256_sub_pd(px, _mm256_loadu_pd(x + i)), dy = _mm256_sub_pd(py, _mm256_loadu_pd(y + i));
         const __m128 d = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
@@ -107,7 +106,7 @@ __attribute__((target("avx"))) bool sum_by_fours_avx(const double* x, const doub
         den4 = _mm256_add_pd(den4, w);
         num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i), w));
     }
-    if (_mm_movemask_ps(out) != 0) return false;
+    if (_mm256_movemask_ps(out8) != 0 || _mm_movemask_ps(out) != 0) return false;
     alignas(16) double lanes[2];
     _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(num4), _mm256_extractf128_pd(num4, 1)));
     num = lanes[0] + lanes[1];
