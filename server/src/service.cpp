@@ -166,18 +166,24 @@ std::optional<api::Format> format_of(const httplib::Request& req, httplib::Respo
 // Content-Length); read through the content reader, chunked bodies are held to it too.
 // A body still arriving at `until` is refused (408): a client that trickles it cannot hold a
 // thread beyond the server's time limit.
+// Past the limit the rest of the body is read and dropped, up to kDrainBytes more and within
+// the time limit, before the 413: a connection closed with unread data in it is reset, and a
+// client still sending (cpp-httplib's, curl's) then loses the answer or gets a broken pipe.
 std::optional<std::string> read_body(const httplib::ContentReader& reader, size_t limit,
                                      std::chrono::steady_clock::time_point until, httplib::Response& res) {
+    constexpr size_t kDrainBytes = size_t{16} << 20;
     std::string body;
     bool too_large = false, too_slow = false;
+    size_t dropped = 0;
     const bool ok = reader([&](const char* data, size_t n) {
-        if (body.size() + n > limit) {
-            too_large = true;
+        if (std::chrono::steady_clock::now() > until) {
+            too_slow = !too_large;
             return false;
         }
-        if (std::chrono::steady_clock::now() > until) {
-            too_slow = true;
-            return false;
+        if (too_large || body.size() + n > limit) {
+            too_large = true;
+            dropped += n;
+            return dropped <= kDrainBytes;
         }
         body.append(data, n);
         return true;

@@ -17,6 +17,14 @@
 
 namespace meshd::test {
 
+// cpp-httplib's client sends without MSG_NOSIGNAL: a write to a server that has closed its
+// side would kill the test process with SIGPIPE instead of failing the request (meshd itself
+// ignores SIGPIPE, server/src/main.cpp).
+inline const bool kSigpipeIgnored = [] {
+    signal(SIGPIPE, SIG_IGN);
+    return true;
+}();
+
 class ServerProcess {
 public:
     explicit ServerProcess(std::vector<std::string> args) {
