@@ -20,6 +20,7 @@
 
 #include "fixtures.hpp"
 
+#include "layers/layers.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/mesher.hpp"
 
@@ -429,6 +430,42 @@ TEST(RandomDomains, LayersLeaveRoomBesideAnEmbeddedCurvesFreeEnd) {
             }
         }
         EXPECT_GT(seen, 0u) << seed;
+    }
+}
+
+// A spoke that leaves a layered circle close to the circle's own start point cuts off a wall
+// segment 10 to 70 times shorter than those beside it. The corner caps reach walls too, so
+// the walls are graded away from it like any curves meeting at a point: at the circles' named
+// points the wall edges differ by at most 2 (the placement rounds to whole segments), and the
+// triangles keep 30 degrees (seeds 672, 910, 505 and 384: 6.7, 15.5, 17.3 and 19.7 degrees,
+// neighbouring wall edges up to 70 times apart, before). Not at corners where a wall turns
+// by more than kFanTurnDeg (a polygon's): the layers fan or bunch there.
+TEST(RandomDomains, AShortWallSegmentBetweenNamedPointsGradesTheWallsBesideIt) {
+    for (const std::uint64_t seed : {672u, 910u, 505u, 384u}) {
+        const LayeredCase lc = layered_case(seed);
+        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+        const Mesh& m = r.mesh;
+        EXPECT_TRUE(check_mesh(m, false).empty()) << seed;
+        // Per named point: the hole edges ending and starting there.
+        std::map<VertexId, std::pair<const MeshEdge*, const MeshEdge*>> at;
+        for (const MeshEdge& e : m.edges) {
+            if (e.embedded || m.tags[e.tag] != "hole") continue;
+            if (m.kind[e.b] == PointKind::Corner) at[e.b].first = &e;
+            if (m.kind[e.a] == PointKind::Corner) at[e.a].second = &e;
+        }
+        size_t seen = 0;
+        for (const auto& [v, edges] : at) {
+            const auto [in, out] = edges;
+            ASSERT_TRUE(in && out) << seed;
+            const Vec2 t0 = m.point(in->b) - m.point(in->a), t1 = m.point(out->b) - m.point(out->a);
+            if (std::fabs(std::atan2(cross(t0, t1), dot(t0, t1))) > kFanTurnDeg * std::numbers::pi / 180.0) continue;
+            ++seen;
+            EXPECT_LE(std::max(norm(t0), norm(t1)) / std::min(norm(t0), norm(t1)), 2.0)
+                << "seed " << seed << " at (" << m.x[v] << ", " << m.y[v] << ")";
+        }
+        EXPECT_GE(seen, 2u) << seed;
+        const auto [angle, where] = smallest_free_angle(m);
+        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
     }
 }
 

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 
+#include "layers/layers.hpp"
 #include "meshd/core/errors.hpp"
 #include "pipeline/estimate.hpp"
 
@@ -105,22 +107,45 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
         // fits in between, the triangle closing the corner is made of the two alone, and its
         // angles follow their ratio (a spoke's short segment against a circle's long one: 15
         // degrees).
+        //
+        // Walls with boundary layers too: their columns stand on the wall's points, so the
+        // layers' outer edge repeats the wall's spacing, and the interior is capped at that
+        // edge's shortest segments after the layers grow. A short wall segment between two
+        // named points (a spoke leaving a circle near the circle's own start point) beside
+        // segments 6 to 70 times longer left the interior fine around it and every curve
+        // nearby coarse: triangles of 7 to 18 degrees among the random domains with layers.
+        // Not where a wall turns by more than kFanTurnDeg: the layers fan round a convex
+        // corner (their tops spaced by the fan, layers.hpp) and bunch at a concave one, so the
+        // outer edge does not repeat the wall's spacing there (a blunt trailing edge's base
+        // capping the surfaces beside it left tops 0.001 apart next to the fan's 0.03).
         {
-            // Not where boundary layers stand: the interior meets their outer edge there.
+            std::vector<char> turning_wall(d.size(), 0);
+            if (!walls.empty()) {
+                size_t at = 0;
+                for (const auto& L : d.loops) {
+                    const size_t m = L.size();
+                    for (size_t i = 0; i < m; ++i) {
+                        const BoundarySegment &in = d.segments[at + (i + m - 1) % m], &out = d.segments[at + i];
+                        const bool wall = (in.curve != kNoCurve && walls[in.curve]) || (out.curve != kNoCurve && walls[out.curve]);
+                        if (!wall) continue;
+                        const Vec2 t0 = d.point(in.b) - d.point(in.a), t1 = d.point(out.b) - d.point(out.a);
+                        if (std::fabs(std::atan2(cross(t0, t1), dot(t0, t1))) > kFanTurnDeg * std::numbers::pi / 180.0)
+                            turning_wall[L[i]] = 1;
+                    }
+                    at += m;
+                }
+            }
             std::vector<double> shortest(d.size(), HUGE_VAL), longest(d.size(), 0.0);
-            std::vector<bool> at_wall(d.size(), false);
             for (const BoundarySegment& s : d.segments) {
                 const double l = distance(d.point(s.a), d.point(s.b));
-                const bool wall = !walls.empty() && s.curve != kNoCurve && walls[s.curve];
                 for (const VertexId v : {s.a, s.b}) {
-                    if (d.curve[v] != kNoCurve || !(l > 0.0)) continue;
-                    at_wall[v] = at_wall[v] || wall;
+                    if (d.curve[v] != kNoCurve || !(l > 0.0) || turning_wall[v]) continue;
                     shortest[v] = std::fmin(shortest[v], l);
                     longest[v] = std::fmax(longest[v], l);
                 }
             }
             for (VertexId v = 0; v < d.size(); ++v) {
-                if (at_wall[v] || !(longest[v] > kAgreementRatio * shortest[v])) continue;
+                if (!(longest[v] > kAgreementRatio * shortest[v])) continue;
                 const Vec2 p = d.point(v);
                 auto [it, fresh] = corner_caps.try_emplace({p.x, p.y}, shortest[v]);
                 if (!fresh && !(shortest[v] < 0.9 * it->second)) continue;

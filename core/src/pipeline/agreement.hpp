@@ -44,12 +44,13 @@ double probe_interior(const SizeField& rho, Vec2 p);
 /// few at most, since each changes what the other sees. Where curves meet at a domain point
 /// and their first segments differ by more than kAgreementRatio, the curves are capped at the
 /// shortest of them there too (the triangle that closes such a corner is often made of the
-/// two segments alone). Sources are only made where the two
+/// two segments alone; at a wall with layers the outer edge repeats the wall's spacing, so
+/// walls take part). Sources are only made where the two
 /// disagree, so a mesh whose curves and field agree pays one probe per segment. Throws what
 /// discretise_boundary throws (too many points, Cancelled).
 ///
-/// `walls` (per curve, may be empty): curves with boundary layers, whose segments cap no
-/// field: the interior meets the layers' outer edge instead (agree_interior_with_front).
+/// `walls` (per curve, may be empty): curves with boundary layers, whose fine segments cap no
+/// interior field: the interior meets the layers' outer edge instead (agree_interior_with_front).
 AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const BoundaryOptions& options,
                                    Discretisation& d, Observer* observer = nullptr,
                                    const std::vector<bool>& walls = {});
