@@ -45,7 +45,8 @@ double probe_interior(const SizeField& rho, Vec2 p);
 /// and their first segments differ by more than kAgreementRatio, the curves are capped at the
 /// shortest of them there too (the triangle that closes such a corner is often made of the
 /// two segments alone; at a wall with layers the outer edge repeats the wall's spacing, so
-/// walls take part). Sources are only made where the two
+/// walls take part, but not where one turns by more than kFanTurnDeg and the layers fan or
+/// bunch). Sources are only made where the two
 /// disagree, so a mesh whose curves and field agree pays one probe per segment. Throws what
 /// discretise_boundary throws (too many points, Cancelled).
 ///
