@@ -469,6 +469,26 @@ TEST(RandomDomains, AShortWallSegmentBetweenNamedPointsGradesTheWallsBesideIt) {
     }
 }
 
+// Two layered holes close together, their columns radial: columns of the two walls pass
+// beside each other at a slant, so the rays (which keep a strip of the local size only along
+// each column) left tops of the two walls 0.6 rho apart, joined by triangles of layer tops
+// alone. Tops of different walls now keep that strip between them too (seeds 829, 884, 885
+// and 412: 18.6, 20.3, 21.8 and 24.1 degrees before).
+TEST(RandomDomains, FacingLayersKeepAStripBetweenTheirTops) {
+    for (const std::uint64_t seed : {829u, 884u, 885u, 412u}) {
+        const LayeredCase lc = layered_case(seed);
+        ASSERT_GE(lc.rc.domain.loops.size(), 3u) << seed;  // the outer loop and two holes
+        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+        EXPECT_GT(r.mesh.quads.size() + static_cast<size_t>(std::count_if(r.mesh.triangles.begin(), r.mesh.triangles.end(),
+                                                                            [](const Triangle& t) { return t.layer; })),
+                  0u)
+            << seed;  // the holes keep layers
+        const auto [angle, where] = smallest_free_angle(r.mesh);
+        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
+    }
+}
+
 // Asking for a smallest angle never makes the smallest angle smaller beside boundary layers:
 // with min_angle_deg 28 the first three went from 24.6, 21.1 and 26.4 degrees to 6.8, 2.9 and
 // 5.2, the refinement's circumcentres landing next to the layers' column tops, in notches of

@@ -28,6 +28,10 @@ constexpr double kStripShare = 1.0;
 /// most this share of the way across (a sawtooth of full and cut columns leaves notches that
 /// no isotropic triangle fills well).
 constexpr double kTopSlope = 0.5;
+/// Rounds of cutting tops that come too close (cut_close_tops), at most; each takes a layer.
+constexpr int kCloseTopRounds = 20;
+/// Tops of columns on bases this close along a chain (a concave corner's) may come close.
+constexpr size_t kCloseTopBases = 2;
 /// A sliding column reaches at most this share of the line it slides on.
 constexpr double kSlideShare = 0.3;
 /// A wall end slides along a line that meets it at a domain angle between these (degrees).
@@ -122,6 +126,8 @@ private:
                                 {Subject::layers(0)});
         cut_by_rays();
         for (Chain& c : chains_) spread(c);
+        for (int round = 0; round < kCloseTopRounds && cut_close_tops(); ++round)
+            for (Chain& c : chains_) spread(c);
         while (cut_crossings())  // each round checks for cancellation first
             for (Chain& c : chains_) spread(c);
     }
@@ -486,6 +492,65 @@ private:
         });
         for (size_t r = 0; r < ray_of.size(); ++r)
             if (cap[r] < HUGE_VAL) ray_of[r]->n = levels_within(*ray_of[r], std::max(cap[r], 0.0));
+    }
+
+    // 1b. Two tops closer than a strip of the local size (kStripShare of rho at each, half
+    // from either side), unless they stand on one base or on bases at most kCloseTopBases apart
+    // along one chain: the taller of the two loses a layer. The rays of step 1 keep a strip
+    // only along each column; columns of two walls that pass beside each other at a slant
+    // (two holes close together, their columns radial) left tops 0.6 rho apart, with a row
+    // of triangles of layer tops alone between them (18.6 degrees). True when any was cut.
+    bool cut_close_tops() {
+        if (observer_ && observer_->should_stop()) throw Cancelled();
+        detail::SegmentSoup soup;
+        struct Top {
+            Column* col;
+            size_t chain, rank;
+            Vec2 p;
+            double r;
+        };
+        std::vector<Top> tops;
+        std::vector<size_t> bases(chains_.size(), 0);
+        for (size_t ci = 0; ci < chains_.size(); ++ci) {
+            Chain& c = chains_[ci];
+            size_t rank = 0;
+            for (size_t k = 0; k < c.columns.size(); ++k) {
+                Column& col = c.columns[k];
+                if (k > 0 && col.base != c.columns[k - 1].base) ++rank;
+                if (col.n == 0 || col.slide != kNoCurve) continue;
+                const Vec2 p = level_point(col, col.n);
+                double r = 0.0;
+                try {
+                    r = 0.5 * kStripShare * rho_.interior(p);
+                } catch (const GeometryError&) {
+                    continue;
+                }
+                tops.push_back({&col, ci, rank, p, r});
+                soup.points.push_back(p - Vec2{r, r});
+                soup.points.push_back(p + Vec2{r, r});
+                soup.segments.push_back({static_cast<std::uint32_t>(soup.points.size() - 2),
+                                         static_cast<std::uint32_t>(soup.points.size() - 1)});
+            }
+            bases[ci] = rank + 1;
+        }
+        std::vector<char> cut(tops.size(), 0);
+        detail::for_each_box_overlap(soup, [&](std::uint32_t i, std::uint32_t j) {
+            const Top &a = tops[i], &b = tops[j];
+            if (a.col->base == b.col->base) return;
+            if (a.chain == b.chain) {
+                const size_t d = a.rank > b.rank ? a.rank - b.rank : b.rank - a.rank;
+                if (d <= kCloseTopBases || (chains_[a.chain].closed && bases[a.chain] - d <= kCloseTopBases)) return;
+            }
+            if (!(distance(a.p, b.p) < a.r + b.r)) return;
+            cut[top(*a.col) >= top(*b.col) ? i : j] = 1;
+        });
+        bool any = false;
+        for (size_t t = 0; t < tops.size(); ++t)
+            if (cut[t]) {
+                --tops[t].col->n;
+                any = true;
+            }
+        return any;
     }
 
     // 2. The layers' outer edge rises from one column's top to the next by at most kTopSlope

@@ -14,6 +14,9 @@
 //   1. along their own ray, to less than half the distance to any other boundary segment,
 //      leaving a strip of the local size between facing layers (a row of isotropic
 //      triangles);
+//   1b. until no two tops come closer than that strip (half of it from either side), but
+//      tops on one base or on bases at most two apart along a wall: rays that pass beside
+//      each other at a slant keep no strip between their tops;
 //   2. the outer edge rises from one column's top to the next by at most half the way
 //      across (fewer layers spread smoothly, whatever the wall's spacing);
 //   3. until no cell is inverted and no edge of the layers crosses another edge of the
