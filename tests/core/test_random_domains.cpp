@@ -489,6 +489,22 @@ TEST(RandomDomains, FacingLayersKeepAStripBetweenTheirTops) {
     }
 }
 
+// A fan planned on the first walls and then placed among walls spaced for it may be cut
+// shorter than planned (its neighbours now stand closer), its tops closer together than the
+// walls beside it were spaced for: the outer edge then slopes down to it over one long wall
+// segment while the interior is capped fine at its tops. The fans are planned again on the
+// walls placed for them, and the walls placed again where a fan came out narrower (seeds 83
+// and 481 with a polygonal hole: 22.3 and 20.5 degrees before).
+TEST(RandomDomains, FansCutShorterThanPlannedAreSpacedForAgain) {
+    for (const std::uint64_t seed : {83u, 481u}) {
+        const LayeredCase lc = layered_case(seed);
+        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+        const auto [angle, where] = smallest_free_angle(r.mesh);
+        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
+    }
+}
+
 // Asking for a smallest angle never makes the smallest angle smaller beside boundary layers:
 // with min_angle_deg 28 the first three went from 24.6, 21.1 and 26.4 degrees to 6.8, 2.9 and
 // 5.2, the refinement's circumcentres landing next to the layers' column tops, in notches of

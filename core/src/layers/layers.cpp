@@ -1106,6 +1106,20 @@ GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const Siz
     return Grower(domain, d, rho, specs, max_points, observer, plan).run();
 }
 
+bool narrow_fans(LayerPlan& plan, const LayerPlan& again) {
+    bool narrower = false;
+    for (size_t i = 0; i < again.fans.points.size(); ++i) {
+        const auto at = std::find(plan.fans.points.begin(), plan.fans.points.end(), again.fans.points[i]);
+        if (at == plan.fans.points.end()) continue;
+        const auto k = static_cast<size_t>(at - plan.fans.points.begin());
+        if (!(again.fans.sizes[i] < 0.8 * plan.fans.sizes[k])) continue;
+        plan.fans.sizes[k] = again.fans.sizes[i];
+        plan.fan_heights[k] = again.fan_heights[i];
+        narrower = true;
+    }
+    return narrower;
+}
+
 LayerPlan plan_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
                       const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer) {
     return Grower(domain, d, rho, specs, max_points, observer).plan();

@@ -92,6 +92,14 @@ struct LayerPlan {
     std::vector<bool> walls;
 };
 
+/// Rounds of planning the fans again on the walls placed for them (narrow_fans), at most.
+inline constexpr int kReplanRounds = 2;
+
+/// The fans of `plan` whose tops stand closer in `again` (the plan made again on the walls
+/// placed for `plan`) by more than a fifth: their gaps and heights taken from `again`. True
+/// when any changed (the walls are then placed again).
+bool narrow_fans(LayerPlan& plan, const LayerPlan& again);
+
 /// Grows the layers' columns on `d` as grow_layers does (and throws what it throws), without
 /// making their cells.
 LayerPlan plan_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
