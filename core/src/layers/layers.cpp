@@ -46,6 +46,13 @@ Vec2 rotate(Vec2 v, double a) { return {v.x * std::cos(a) - v.y * std::sin(a), v
 // above that wall (capped at kMaxStretch).
 double stretch_for(double cosine) { return cosine > 1.0 / kMaxStretch ? 1.0 / cosine : kMaxStretch; }
 
+// The index of each point of `points` (a plan's fan corners), for lookups in log time.
+std::map<std::pair<double, double>, size_t> index_of_points(const std::vector<Vec2>& points) {
+    std::map<std::pair<double, double>, size_t> at;
+    for (size_t i = 0; i < points.size(); ++i) at.emplace(std::pair{points[i].x, points[i].y}, i);
+    return at;
+}
+
 struct Column {
     Column(VertexId b, Vec2 d, double s, int sp) : base(b), dir(d), stretch(s), spec(sp) {}
     VertexId base;
@@ -140,16 +147,17 @@ private:
     // The columns of each fan of the plan no taller than kFanCapRatio times its tallest there
     // (the fans are found by their corner points, which the discretisations share).
     void hold_fans_to_plan() {
-        const SizeCaps& fans = plan_->fans;
+        const auto fan_at = index_of_points(plan_->fans.points);
         for (Chain& c : chains_)
             for (size_t k = 0; k < c.columns.size(); ++k) {
                 Column& col = c.columns[k];
                 const bool fan = (k > 0 && c.columns[k - 1].base == col.base) ||
                                  (k + 1 < c.columns.size() && c.columns[k + 1].base == col.base);
                 if (!fan) continue;
-                const auto at = std::find(fans.points.begin(), fans.points.end(), pt(col.base));
-                if (at == fans.points.end()) continue;
-                const double planned = plan_->fan_heights[static_cast<size_t>(at - fans.points.begin())];
+                const Vec2 p = pt(col.base);
+                const auto at = fan_at.find({p.x, p.y});
+                if (at == fan_at.end()) continue;
+                const double planned = plan_->fan_heights[at->second];
                 col.n = levels_within(col, kFanCapRatio * planned);
             }
     }
@@ -1108,10 +1116,11 @@ GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const Siz
 
 bool narrow_fans(LayerPlan& plan, const LayerPlan& again) {
     bool narrower = false;
+    const auto fan_at = index_of_points(plan.fans.points);
     for (size_t i = 0; i < again.fans.points.size(); ++i) {
-        const auto at = std::find(plan.fans.points.begin(), plan.fans.points.end(), again.fans.points[i]);
-        if (at == plan.fans.points.end()) continue;
-        const auto k = static_cast<size_t>(at - plan.fans.points.begin());
+        const auto at = fan_at.find({again.fans.points[i].x, again.fans.points[i].y});
+        if (at == fan_at.end()) continue;
+        const size_t k = at->second;
         if (!(again.fans.sizes[i] < 0.8 * plan.fans.sizes[k])) continue;
         plan.fans.sizes[k] = again.fans.sizes[i];
         plan.fan_heights[k] = again.fan_heights[i];
