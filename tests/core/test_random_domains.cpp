@@ -505,6 +505,21 @@ TEST(RandomDomains, FansCutShorterThanPlannedAreSpacedForAgain) {
     }
 }
 
+// A fan the first walls left no room for (a polygonal hole's corner whose columns the coarse
+// first walls cut back entirely) stands on the walls placed for the other fans: it is planned
+// then, and the walls beside it graded down to its tops. Before, the wall's first segment
+// beside such a fan was up to 25 times as long as its tops were apart (seeds 358, 960 and
+// 222: 21.2, 16.1 and 21.2 degrees).
+TEST(RandomDomains, AFanTheFirstWallsCutAwayIsSpacedForOnceItStands) {
+    for (const std::uint64_t seed : {358u, 960u, 222u}) {
+        const LayeredCase lc = layered_case(seed);
+        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+        const auto [angle, where] = smallest_free_angle(r.mesh);
+        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
+    }
+}
+
 // Asking for a smallest angle never makes the smallest angle smaller beside boundary layers:
 // with min_angle_deg 28 the first three went from 24.6, 21.1 and 26.4 degrees to 6.8, 2.9 and
 // 5.2, the refinement's circumcentres landing next to the layers' column tops, in notches of

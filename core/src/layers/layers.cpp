@@ -1119,7 +1119,15 @@ bool narrow_fans(LayerPlan& plan, const LayerPlan& again) {
     const auto fan_at = index_of_points(plan.fans.points);
     for (size_t i = 0; i < again.fans.points.size(); ++i) {
         const auto at = fan_at.find({again.fans.points[i].x, again.fans.points[i].y});
-        if (at == fan_at.end()) continue;
+        if (at == fan_at.end()) {
+            // A fan the first walls left no room for (its columns all cut back), standing on
+            // the walls placed for the others.
+            plan.fans.points.push_back(again.fans.points[i]);
+            plan.fans.sizes.push_back(again.fans.sizes[i]);
+            plan.fan_heights.push_back(again.fan_heights[i]);
+            narrower = true;
+            continue;
+        }
         const size_t k = at->second;
         if (!(again.fans.sizes[i] < 0.8 * plan.fans.sizes[k])) continue;
         plan.fans.sizes[k] = again.fans.sizes[i];

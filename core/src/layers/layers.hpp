@@ -96,8 +96,9 @@ struct LayerPlan {
 inline constexpr int kReplanRounds = 2;
 
 /// The fans of `plan` whose tops stand closer in `again` (the plan made again on the walls
-/// placed for `plan`) by more than a fifth: their gaps and heights taken from `again`. True
-/// when any changed (the walls are then placed again).
+/// placed for `plan`) by more than a fifth: their gaps and heights taken from `again`. Fans
+/// of `again` that `plan` lacks (the first walls left them no room: every column cut back)
+/// join it. True when any changed or joined (the walls are then placed again).
 bool narrow_fans(LayerPlan& plan, const LayerPlan& again);
 
 /// Grows the layers' columns on `d` as grow_layers does (and throws what it throws), without

@@ -186,7 +186,8 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             if (rho.interpolates()) set_interpolation_sources(rho, d);
             // The fans planned again on the walls placed for them: a fan whose neighbours now
             // stand closer may be cut shorter than planned, its tops closer together than the
-            // walls were spaced for (a long slope of the outer edge down to it).
+            // walls were spaced for (a long slope of the outer edge down to it), and a fan the
+            // first walls cut back entirely may stand on these.
             for (int round = 0; round < kReplanRounds; ++round) {
                 if (!narrow_fans(plan, plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer)))
                     break;
