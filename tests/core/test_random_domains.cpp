@@ -520,6 +520,22 @@ TEST(RandomDomains, AFanTheFirstWallsCutAwayIsSpacedForOnceItStands) {
     }
 }
 
+// A short embedded line leaving a layered hole, beside outer-edge segments up to twice its
+// length: the corner's triangle, of fixed points alone, had no interior point to mend it, as
+// the field beside the line (probed half its length away) was just under 1.5 times its
+// length. Such a line now caps the interior around it whatever the field (seeds 503, 767,
+// 101 and 293: 22.9, 28.3, 28.5 and 28.1 degrees before).
+TEST(RandomDomains, AShortLineLeavingTheLayersGetsInteriorPointsAroundIt) {
+    for (const std::uint64_t seed : {503u, 767u, 101u, 293u}) {
+        const LayeredCase lc = layered_case(seed);
+        ASSERT_FALSE(lc.rc.domain.embedded.empty()) << seed;
+        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+        const auto [angle, where] = smallest_free_angle(r.mesh);
+        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
+    }
+}
+
 // Asking for a smallest angle never makes the smallest angle smaller beside boundary layers:
 // with min_angle_deg 28 the first three went from 24.6, 21.1 and 26.4 degrees to 6.8, 2.9 and
 // 5.2, the refinement's circumcentres landing next to the layers' column tops, in notches of

@@ -171,12 +171,25 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
 void agree_interior_with_front(SizeField& rho, const Discretisation& front) {
     std::vector<Vec2> fine;
     std::vector<double> fine_sizes;
+    // Per front point, its longest segment: an embedded segment (a short line leaving a
+    // wall, the free part above the column that slid up it) far shorter than a segment
+    // beside it gets the interior fine around it, as a corner the walls' agreement would
+    // have graded (seed 503 of the random domains: 1.7 against 0.9, the field beside the
+    // line 1.47 times its length, 22.9 degrees without).
+    std::vector<double> longest(front.size(), 0.0);
+    for (const BoundarySegment& s : front.segments) {
+        const double l = distance(front.point(s.a), front.point(s.b));
+        longest[s.a] = std::fmax(longest[s.a], l);
+        longest[s.b] = std::fmax(longest[s.b], l);
+    }
     for (size_t i = 0; i < front.segments.size(); ++i) {
         const BoundarySegment& s = front.segments[i];
         const Vec2 a = front.point(s.a), b = front.point(s.b);
         const double l = distance(a, b);
         if (!(l > 0.0)) continue;
-        if (!(field_beside(rho, a, b, i >= front.loop_segment_count, 0.5 * (a + b)) > kAgreementRatio * l)) continue;
+        const bool embedded = i >= front.loop_segment_count;
+        const bool corner = embedded && std::fmax(longest[s.a], longest[s.b]) > kAgreementRatio * l;
+        if (!corner && !(field_beside(rho, a, b, embedded, 0.5 * (a + b)) > kAgreementRatio * l)) continue;
         fine.insert(fine.end(), {a, b});
         fine_sizes.insert(fine_sizes.end(), {l, l});
     }

@@ -60,6 +60,10 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
 /// interior is meshed up to when boundary layers stand on the walls: their outer edge is
 /// spaced like the walls but lies a layer's thickness out, where the field (and under eq.
 /// 6.1 the cones from the walls' points) is already coarser. Replaces the cap from the walls.
+/// An embedded segment of the front beside a front segment more than kAgreementRatio times
+/// as long is capped too, whatever the field: the walls' spacing at a short line leaving
+/// them was agreed on before a column slid up the line, and the triangle closing that
+/// corner needs an interior point.
 void agree_interior_with_front(SizeField& rho, const Discretisation& front);
 
 }  // namespace meshd::core
