@@ -35,6 +35,13 @@ using detail::TriangleSoup;
 // A move shorter than this fraction of the root mean square spoke is not made: the point
 // has settled.
 constexpr double kSettled = 0.02;
+// A move may lower the worst shape of its star (the mean ratio, below) as long as every
+// triangle of the star stays at this or better (a triangle of mean ratio 0.8 has no angle
+// below 32.3 degrees): below it, no move makes the star's worst triangle worse. Refusing every move that lowered the star's worst shape held the points off their
+// neighbours' mean in nearly regular stars, where the mean trades a little of the worst
+// triangle for the rest: the benchmark case's mean radius ratio went from 0.9728 to 0.9758
+// with this, at the same smallest angle and time.
+constexpr double kFreeShape = 0.8;
 // A shape above this is a counter-clockwise triangle whatever the rounding of its area.
 constexpr double kShapeCertain = 1e-9;
 // Triangles with an angle below this (degrees) get their interior corners optimised. Each
@@ -440,7 +447,7 @@ private:
                 // The shape alone cannot tell a sliver from an inverted triangle when its
                 // area is lost in rounding: the exact orientation decides those.
                 const double q = shape(p, a, b);
-                ok = q >= worst_before && (q > kShapeCertain || orient2d(p, a, b) == Orientation::Left);
+                ok = q >= std::min(worst_before, kFreeShape) && (q > kShapeCertain || orient2d(p, a, b) == Orientation::Left);
             }
             if (ok) {
                 pts_[v] = p;
