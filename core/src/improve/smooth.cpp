@@ -37,10 +37,11 @@ using detail::TriangleSoup;
 constexpr double kSettled = 0.02;
 // A move may lower the worst shape of its star (the mean ratio, below) as long as every
 // triangle of the star stays at this or better (a triangle of mean ratio 0.8 has no angle
-// below 32.3 degrees): below it, no move makes the star's worst triangle worse. Refusing every move that lowered the star's worst shape held the points off their
-// neighbours' mean in nearly regular stars, where the mean trades a little of the worst
-// triangle for the rest: the benchmark case's mean radius ratio went from 0.9728 to 0.9758
-// with this, at the same smallest angle and time.
+// below 32.3 degrees): below it, no move makes the star's worst triangle worse. Refusing
+// every move that lowered the star's worst shape held the points off their neighbours' mean
+// in nearly regular stars, where the mean trades a little of the worst triangle for the
+// rest: the benchmark case's mean radius ratio went from 0.9728 to 0.9758 with this, at the
+// same smallest angle and time.
 constexpr double kFreeShape = 0.8;
 // A shape above this is a counter-clockwise triangle whatever the rounding of its area.
 constexpr double kShapeCertain = 1e-9;

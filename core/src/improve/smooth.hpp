@@ -10,7 +10,8 @@ namespace meshd::core {
 
 /// Each sweep moves the interior points that are still settling to the mean of their
 /// neighbours (or half way) unless that inverts a triangle of the star or takes one below
-/// both the star's worst mean ratio and 0.8; then the Delaunay property is restored by flips of unconstrained edges.
+/// both the star's worst mean ratio and 0.8; then the Delaunay property is restored by
+/// flips of unconstrained edges.
 /// Last, the angle repair: the interior corners of triangles with an angle below 34 degrees
 /// are placed where the smallest angle of their star is largest (a pattern search), again
 /// followed by flips; a triangle of fixed points only has an edge flipped when the interior
