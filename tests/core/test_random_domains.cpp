@@ -536,6 +536,22 @@ TEST(RandomDomains, AShortLineLeavingTheLayersGetsInteriorPointsAroundIt) {
     }
 }
 
+// A spoke about as short as the layered hole's segments beside its base: the column sliding
+// up it took 0.3 of it, and the spoke's free part, the slide column's top and the next
+// column's top closed a triangle of fixed points alone with sides 0.85 : 2.4 : 2.4. The
+// sliding column now leaves free at least 2/3 of the longer wall segment beside the spoke
+// (seeds 46, 203, 87 and 554: 24.8, 26.4, 25.7 and 27.9 degrees before).
+TEST(RandomDomains, AColumnSlidingUpAShortSpokeLeavesItsFreePartAsLongAsTheWallBeside) {
+    for (const std::uint64_t seed : {46u, 203u, 87u, 554u}) {
+        const LayeredCase lc = layered_case(seed);
+        ASSERT_FALSE(lc.rc.domain.embedded.empty()) << seed;
+        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+        const auto [angle, where] = smallest_free_angle(r.mesh);
+        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
+    }
+}
+
 // Asking for a smallest angle never makes the smallest angle smaller beside boundary layers:
 // with min_angle_deg 28 the first three went from 24.6, 21.1 and 26.4 degrees to 6.8, 2.9 and
 // 5.2, the refinement's circumcentres landing next to the layers' column tops, in notches of
