@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <initializer_list>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -233,6 +234,21 @@ std::pair<double, Vec2> smallest_free_angle(const Mesh& m) {
         }
     }
     return worst;
+}
+
+// Each seed's layered case (layered_case) meshed with the defaults: a valid mesh whose
+// isotropic triangles keep 30 degrees; with `embedded`, the case must have an embedded curve.
+void expect_thirty_degrees_with_layers(std::initializer_list<std::uint64_t> seeds, bool embedded = false) {
+    for (const std::uint64_t seed : seeds) {
+        const LayeredCase lc = layered_case(seed);
+        if (embedded) {
+            EXPECT_FALSE(lc.rc.domain.embedded.empty()) << seed;
+        }
+        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+        const auto [angle, where] = smallest_free_angle(r.mesh);
+        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
+    }
 }
 
 }  // namespace
@@ -496,13 +512,7 @@ TEST(RandomDomains, FacingLayersKeepAStripBetweenTheirTops) {
 // walls placed for them, and the walls placed again where a fan came out narrower (seeds 83
 // and 481 with a polygonal hole: 22.3 and 20.5 degrees before).
 TEST(RandomDomains, FansCutShorterThanPlannedAreSpacedForAgain) {
-    for (const std::uint64_t seed : {83u, 481u}) {
-        const LayeredCase lc = layered_case(seed);
-        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
-        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
-        const auto [angle, where] = smallest_free_angle(r.mesh);
-        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
-    }
+    expect_thirty_degrees_with_layers({83u, 481u});
 }
 
 // A fan the first walls left no room for (a polygonal hole's corner whose columns the coarse
@@ -511,13 +521,7 @@ TEST(RandomDomains, FansCutShorterThanPlannedAreSpacedForAgain) {
 // beside such a fan was up to 25 times as long as its tops were apart (seeds 358, 960 and
 // 222: 21.2, 16.1 and 21.2 degrees).
 TEST(RandomDomains, AFanTheFirstWallsCutAwayIsSpacedForOnceItStands) {
-    for (const std::uint64_t seed : {358u, 960u, 222u}) {
-        const LayeredCase lc = layered_case(seed);
-        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
-        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
-        const auto [angle, where] = smallest_free_angle(r.mesh);
-        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
-    }
+    expect_thirty_degrees_with_layers({358u, 960u, 222u});
 }
 
 // A short embedded line leaving a layered hole, beside outer-edge segments up to twice its
@@ -526,14 +530,7 @@ TEST(RandomDomains, AFanTheFirstWallsCutAwayIsSpacedForOnceItStands) {
 // length. Such a line now caps the interior around it whatever the field (seeds 503, 767,
 // 101 and 293: 22.9, 28.3, 28.5 and 28.1 degrees before).
 TEST(RandomDomains, AShortLineLeavingTheLayersGetsInteriorPointsAroundIt) {
-    for (const std::uint64_t seed : {503u, 767u, 101u, 293u}) {
-        const LayeredCase lc = layered_case(seed);
-        ASSERT_FALSE(lc.rc.domain.embedded.empty()) << seed;
-        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
-        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
-        const auto [angle, where] = smallest_free_angle(r.mesh);
-        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
-    }
+    expect_thirty_degrees_with_layers({503u, 767u, 101u, 293u}, true);
 }
 
 // A spoke about as short as the layered hole's segments beside its base: the column sliding
@@ -542,14 +539,7 @@ TEST(RandomDomains, AShortLineLeavingTheLayersGetsInteriorPointsAroundIt) {
 // sliding column now leaves free at least 2/3 of the longer wall segment beside the spoke
 // (seeds 46, 203, 87 and 554: 24.8, 26.4, 25.7 and 27.9 degrees before).
 TEST(RandomDomains, AColumnSlidingUpAShortSpokeLeavesItsFreePartAsLongAsTheWallBeside) {
-    for (const std::uint64_t seed : {46u, 203u, 87u, 554u}) {
-        const LayeredCase lc = layered_case(seed);
-        ASSERT_FALSE(lc.rc.domain.embedded.empty()) << seed;
-        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
-        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
-        const auto [angle, where] = smallest_free_angle(r.mesh);
-        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
-    }
+    expect_thirty_degrees_with_layers({46u, 203u, 87u, 554u}, true);
 }
 
 // Asking for a smallest angle never makes the smallest angle smaller beside boundary layers:
