@@ -365,6 +365,24 @@ TEST(RandomDomains, AColumnSlidingUpAShortSpokeLeavesItsFreePartAsLongAsTheWallB
     expect_thirty_degrees_with_layers({46u, 203u, 87u, 554u}, true);
 }
 
+// A layered side of the outer polygon ending on an unlayered side at 150 degrees or so: its
+// end column slid down that side leaning 60 degrees off the wall's normal, its top 1.3 times
+// the layers' height from the next column's, and the outer edge between them one segment six
+// times the interior's size. Such an end now turns a fan round to the side (seeds 770, 72 and
+// 184: 25.4, 25.9 and 25.2 degrees before).
+TEST(RandomDomains, AWallEndingOnALineAtABluntAngleFansRoundToIt) {
+    expect_thirty_degrees_with_layers({770u, 72u, 184u});
+}
+
+// The fans are planned on walls that are not yet final, and planning them again on the walls
+// spaced for them need not settle: a square hole's corner that every plan cut back stood a
+// fan on the final walls with tops 613 apart between wall tops 18,000 apart (seed 349). A fan
+// the plan lacks now stands no column above its corner (seeds 349, 186 and 784: 26.2, 29.1
+// and 28.1 degrees before).
+TEST(RandomDomains, AFanNoPlanHadStandsNoColumns) {
+    expect_thirty_degrees_with_layers({349u, 186u, 784u});
+}
+
 // Asking for a smallest angle never makes the smallest angle smaller beside boundary layers:
 // with min_angle_deg 28 the first three went from 24.6, 21.1 and 26.4 degrees to 6.8, 2.9 and
 // 5.2, the refinement's circumcentres landing next to the layers' column tops, in notches of

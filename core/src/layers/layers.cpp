@@ -44,7 +44,11 @@ constexpr double kSlideShare = 0.3;
 /// 123 of the random domains went from 34.1 to 28.4 degrees between two other holes).
 constexpr double kSpokeFreeShare = 1.0 / 1.5;
 /// A wall end slides along a line that meets it at a domain angle between these (degrees).
-constexpr double kSlideMinDeg = 20.0, kSlideMaxDeg = 160.0;
+/// From kSlideMaxDeg on, the line leaves the wall's normal by more than a fan's step, and the
+/// end turns a fan round to it instead: a lone column leaning further stands its top about
+/// 2 H sin(lean / 2) from its neighbour's (seed 770 of the random domains: a line at 154
+/// degrees, tops 1.3 H apart, one outer-edge segment six times the interior's size beside it).
+constexpr double kSlideMinDeg = 20.0, kSlideMaxDeg = 90.0 + kFanStepDeg;
 
 Vec2 unit(Vec2 v) {
     const double n = norm(v);
@@ -167,8 +171,10 @@ private:
                 if (!fan) continue;
                 const Vec2 p = pt(col.base);
                 const auto at = fan_at.find({p.x, p.y});
-                if (at == fan_at.end()) continue;
-                const double planned = plan_->fan_heights[at->second];
+                // A fan the plan lacks had no room on the walls the plan saw (every column cut
+                // back): nothing spaced the walls and the field for its tops, which would
+                // stand far closer together than the wall's points beside them.
+                const double planned = at == fan_at.end() ? 0.0 : plan_->fan_heights[at->second];
                 col.n = levels_within(col, kFanCapRatio * planned);
             }
     }
@@ -299,9 +305,9 @@ private:
                 Column col(v, wall_normal, 1.0, start ? spec_out : spec_in);
                 const bool straight = slidable(line);
                 if (straight && angle >= kSlideMaxDeg * kDeg) {
-                    // The line goes on nearly straight from the wall (a trailing edge on a
-                    // symmetry line): a fan from the wall's normal round to the line, whose
-                    // last column slides on it.
+                    // The line leaves the wall at a blunt angle (a trailing edge on a symmetry
+                    // line goes on straight): a fan from the wall's normal round to the line,
+                    // whose last column slides on it.
                     const double turn = std::atan2(cross(wall_normal, along), dot(wall_normal, along));
                     const int sectors = std::max(1, static_cast<int>(std::ceil(std::fabs(turn) / (kFanStepDeg * kDeg))));
                     std::vector<Column> fan;

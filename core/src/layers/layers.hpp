@@ -7,7 +7,7 @@
 // columns. Column k's point sits at the height s_k = first_height (1 + growth + ... +
 // growth^(k-1)). A column stops at `layers`, at `thickness`, or before a layer taller than
 // rho there. A wall that ends on a curve without layers slides its end column along it (or,
-// where the curve goes on almost straight, turns a fan round to it); an embedded curve that
+// where the curve leaves at a blunt angle, turns a fan round to it); an embedded curve that
 // leaves a wall takes the nearest column onto it. Two fans in a row (the corners of a blunt
 // trailing edge's short base) part their columns on the segment between them. Then the
 // columns are cut back:
@@ -63,7 +63,8 @@ struct LayerPlan;
 /// Grows the layers of `specs` on the discretisation `d`. Throws GeometryError when a spec
 /// names no loop curve or the layers would pass max_points points (0: no limit), or
 /// Cancelled. With `plan` (plan_layers on an earlier discretisation, whose fans spaced `d`
-/// and `rho`), no fan stands more than kFanCapRatio times as tall as planned.
+/// and `rho`), no fan stands more than kFanCapRatio times as tall as planned, and a fan the
+/// plan lacks not at all.
 GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
                         const std::vector<BoundaryLayerSpec>& specs, size_t max_points = 0,
                         Observer* observer = nullptr, const LayerPlan* plan = nullptr);
