@@ -174,6 +174,20 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     // Boundary layers' fans: the walls beside them and the field around them no coarser than
     // the fans' tops are apart (layers.hpp), growing gently away from them.
     LayerPlan plan;
+    // The fans planned again on the walls placed since: a fan whose neighbours now stand
+    // closer, or where the field is now smaller, may be cut shorter than planned, its tops
+    // closer together than the walls were spaced for (a long slope of the outer edge down to
+    // it), and a fan the earlier walls cut back entirely may stand on these. The walls are
+    // placed again for those (narrow_fans), a few rounds at most.
+    auto plan_fans_again = [&] {
+        for (int round = 0; round < kReplanRounds; ++round) {
+            if (!narrow_fans(plan, plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer)))
+                return;
+            rho.set_cap(plan.fans, kFanCapRatio);
+            d = discretise_boundary(domain, rho, bopt, observer);
+            if (rho.interpolates()) set_interpolation_sources(rho, d);
+        }
+    };
     if (!options.boundary_layers.empty()) {
         if (options.order == 2)
             throw GeometryError(GeometryErrorKind::BadParameter,
@@ -184,24 +198,20 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             rho.set_cap(plan.fans, kFanCapRatio);
             d = discretise_boundary(domain, rho, bopt, observer);
             if (rho.interpolates()) set_interpolation_sources(rho, d);
-            // The fans planned again on the walls placed for them: a fan whose neighbours now
-            // stand closer may be cut shorter than planned, its tops closer together than the
-            // walls were spaced for (a long slope of the outer edge down to it), and a fan the
-            // first walls cut back entirely may stand on these.
-            for (int round = 0; round < kReplanRounds; ++round) {
-                if (!narrow_fans(plan, plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer)))
-                    break;
-                rho.set_cap(plan.fans, kFanCapRatio);
-                d = discretise_boundary(domain, rho, bopt, observer);
-                if (rho.interpolates()) set_interpolation_sources(rho, d);
-            }
+            plan_fans_again();
             walls = triangulate_boundary(d);
         }
     }
     // Curves far coarser than the interior field beside them: spaced again to agree with it.
     if (options.curve_agreement) {
         r.stats.agreement = agree_with_interior(domain, rho, bopt, d, observer, plan.walls);
-        if (r.stats.agreement.rounds > 0) walls = triangulate_boundary(d);
+        if (r.stats.agreement.rounds > 0) {
+            // The agreement's caps (the interior capped beside fine curves, curves placed
+            // again) cut fans back too: a fan planned 27,000 tall stood 760 on the agreed
+            // walls, its tops 317 apart between wall tops 9,000 apart.
+            if (!options.boundary_layers.empty()) plan_fans_again();
+            walls = triangulate_boundary(d);
+        }
     }
     // Refuse before the interior work when the mesh would clearly be too large. Not needed
     // when the forecast, which sees everything but the gradation and the interior's caps
