@@ -34,6 +34,9 @@ constexpr size_t kChunk = size_t{1} << 20;
 /// How long a finished job's outcome is retried while the store is away; past it the job
 /// is left to its lease (another replica runs it again).
 constexpr std::chrono::seconds kOutcomeRetry{120};
+/// A stored result the finishing script has not taken yet expires after this (ms) at the
+/// soonest: the script sets the job's TTL on it.
+constexpr long long kUntakenResultMs = 60'000;
 
 // Every script takes the job's key as KEYS[1] and the key prefix as ARGV[1]; the other keys
 // are named from the prefix (they share its hash tag, so a Cluster keeps them in one slot).
@@ -306,8 +309,11 @@ RedisStore::~RedisStore() {
 
 long long RedisStore::lease_ms() const { return std::max<long long>(1, std::llround(config_.lease_s * 1000)); }
 
+// 0 (a TTL under half a millisecond) makes PEXPIRE delete the record and the result as the
+// job ends, as the memory store forgets them; 1 ms left both readable within that
+// millisecond, and a poll that saw the job end could still fetch its mesh.
 std::string RedisStore::ttl_ms() const {
-    return std::to_string(std::max<long long>(1, std::llround(config_.job_ttl_s * 1000)));
+    return std::to_string(std::max<long long>(0, std::llround(config_.job_ttl_s * 1000)));
 }
 
 std::string RedisStore::key(const std::string& kind, const std::string& id) const {
@@ -849,7 +855,9 @@ void RedisStore::write_outcome(redis::Connection& c, const std::string& id, cons
     const std::string ttl = ttl_ms();
     if (status == JobStatus::Succeeded) {
         // The chunks, then "n": a result is complete once "n" is there. It expires by itself
-        // if the script below does not take it (the job ended elsewhere meanwhile).
+        // if the script below does not take it (the job ended elsewhere meanwhile), but not
+        // before the script has had time to take it and set the TTL itself (a TTL of 0 or a
+        // few milliseconds would drop it first).
         // One chunk per round trip: hiredis moves the unsent rest of its output buffer after
         // every partial write, so a pipeline of all the chunks cost time quadratic in them.
         auto must = [](const redis::Reply& r) {
@@ -860,7 +868,7 @@ void RedisStore::write_outcome(redis::Connection& c, const std::string& id, cons
         for (size_t at = 0; at < bytes.size() || k == 0; at += kChunk, ++k)
             must(c.command({"HSET", rk, std::to_string(k), std::string_view(bytes).substr(at, kChunk)}));
         must(c.command({"HSET", rk, "n", std::to_string(k)}));
-        must(c.command({"PEXPIRE", rk, ttl}));
+        must(c.command({"PEXPIRE", rk, std::to_string(std::max<long long>(std::stoll(ttl), kUntakenResultMs))}));
     }
     const redis::Reply r =
         eval(c, kFinish, id,

@@ -108,6 +108,24 @@ protected:
         return std::make_unique<ServerProcess>(args);
     }
 
+    // The keys of the Redis store matching `pattern`, by redis-cli, one per line (empty with
+    // the memory store).
+    std::string redis_keys(const std::string& pattern) const {
+        if (!redis_) return "";
+        const std::string url = redis_->url();
+        const std::string where = redis_->port() ? "-p " + std::to_string(redis_->port()) : "-s " + url.substr(std::string("unix://").size());
+        const std::string command = "redis-cli " + where + " --scan --pattern '" + pattern + "'";
+        std::string out;
+        if (FILE* p = popen(command.c_str(), "r")) {
+            char buf[256];
+            while (std::fgets(buf, sizeof buf, p)) out += buf;
+            EXPECT_EQ(pclose(p), 0) << command;
+        } else {
+            ADD_FAILURE() << command;
+        }
+        return out;
+    }
+
 private:
     std::unique_ptr<RedisProcess> redis_;
 };
@@ -319,6 +337,8 @@ TEST_P(Http, FinishedJobsExpire) {
     auto later = c.Get(("/v1/jobs/" + id + "/mesh").c_str());
     ASSERT_TRUE(later);
     EXPECT_TRUE(later->status == 404 || later->status == 410) << later->status;
+    // Nothing of the job is left behind in a shared store either (its record, its result).
+    EXPECT_EQ(redis_keys("{meshd}:job:*") + redis_keys("{meshd}:result:*"), "");
 }
 
 TEST_P(Http, QueueFullAnswers429WithRetryAfter) {
