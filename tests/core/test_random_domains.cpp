@@ -391,6 +391,15 @@ TEST(RandomDomains, FansArePlannedAgainAfterTheCurvesAgreeWithTheField) {
     expect_thirty_degrees_with_layers({728u, 82u});
 }
 
+// A wall's columns spread their tops by (R + H) / R on a convex wall: a small circle under
+// layers twice its radius thick stood tops 165 apart beside interior triangles of 40 (seed
+// 663), and a circle's coarse tops faced a square's fan across a narrow gap (617). Tops more
+// than 1.5 times the field apart now cap the wall below them (seeds 663, 617, 201 and 452:
+// 26.0, 26.2, 29.1 and 28.9 degrees before).
+TEST(RandomDomains, NeighbouringTopsFarApartForTheFieldSpaceTheirWallFiner) {
+    expect_thirty_degrees_with_layers({663u, 617u, 201u, 452u});
+}
+
 // Asking for a smallest angle never makes the smallest angle smaller beside boundary layers:
 // with min_angle_deg 28 the first three went from 24.6, 21.1 and 26.4 degrees to 6.8, 2.9 and
 // 5.2, the refinement's circumcentres landing next to the layers' column tops, in notches of

@@ -61,7 +61,7 @@ std::optional<Case> case_for(std::uint64_t seed, bool layers) {
 
 int census(std::uint64_t from, std::uint64_t to, bool layers) {
     int below = 0, meshed = 0, refused = 0;
-    double sum = 0.0;
+    double sum = 0.0, points = 0.0;
     for (std::uint64_t seed = from; seed <= to; ++seed) {
         const auto c = case_for(seed, layers);
         if (!c) continue;
@@ -70,6 +70,7 @@ int census(std::uint64_t from, std::uint64_t to, bool layers) {
             const auto [angle, at] = smallest_free_angle(r.mesh);
             ++meshed;
             sum += angle;
+            points += static_cast<double>(r.quality.points);
             if (angle < 30.0) {
                 ++below;
                 std::printf("seed %llu: %.2f degrees at (%.9g, %.9g); %s", static_cast<unsigned long long>(seed), angle, at.x,
@@ -85,8 +86,8 @@ int census(std::uint64_t from, std::uint64_t to, bool layers) {
             std::printf("seed %llu: refused: %s\n", static_cast<unsigned long long>(seed), e.what());
         }
     }
-    std::printf("%d of %d meshes below 30 degrees (%d refused); mean smallest angle %.3f\n", below, meshed, refused,
-                sum / std::max(meshed, 1));
+    std::printf("%d of %d meshes below 30 degrees (%d refused); mean smallest angle %.3f; %.0f points\n", below, meshed,
+                refused, sum / std::max(meshed, 1), points);
     return 0;
 }
 

@@ -43,6 +43,9 @@ constexpr double kSlideShare = 0.3;
 /// beside it, and planning without its column changed the caps and so the whole mesh (seed
 /// 123 of the random domains went from 34.1 to 28.4 degrees between two other holes).
 constexpr double kSpokeFreeShare = 1.0 / 1.5;
+/// Neighbouring tops more than this many times the field apart cap the wall below them (the
+/// ratio the curves' agreement allows between a segment and the field beside it).
+constexpr double kTopsRatio = 1.5;
 /// A wall end slides along a line that meets it at a domain angle between these (degrees).
 /// From kSlideMaxDeg on, the line leaves the wall's normal by more than a fan's step, and the
 /// end turns a fan round to it instead: a lone column leaning further stands its top about
@@ -125,10 +128,38 @@ public:
         }
         std::vector<bool> walls(spec_of_.size());
         for (size_t c = 0; c < walls.size(); ++c) walls[c] = spec_of_[c] >= 0;
-        return {std::move(caps), std::move(heights), std::move(walls)};
+        return {std::move(caps), std::move(heights), std::move(walls), coarse_tops()};
     }
 
 private:
+    // Neighbouring columns on two wall points whose tops stand more than kTopsRatio times the
+    // field there apart: a cap at the wall segment's middle that would bring the tops to the
+    // field. A convex wall spreads its tops by (R + H) / R (a small circle under layers twice
+    // its radius thick: tops 165 apart beside interior triangles of 40), and the field may be
+    // finer away from the wall than on it.
+    SizeCaps coarse_tops() const {
+        SizeCaps caps;
+        for (const Chain& c : chains_) {
+            const size_t m = c.columns.size();
+            for (size_t k = 0; k + (c.closed ? 0 : 1) < m; ++k) {
+                const Column &a = c.columns[k], &b = c.columns[(k + 1) % m];
+                if (a.base == b.base) continue;
+                const Vec2 ta = level_point(a, a.n), tb = level_point(b, b.n);
+                const double gap = distance(ta, tb);
+                double field = 0.0;
+                try {
+                    field = rho_.interior(0.5 * (ta + tb));
+                } catch (const GeometryError&) {
+                    continue;
+                }
+                if (!(gap > kTopsRatio * field)) continue;
+                caps.points.push_back(0.5 * (pt(a.base) + pt(b.base)));
+                caps.sizes.push_back(distance(pt(a.base), pt(b.base)) * field / gap);
+            }
+        }
+        return caps;
+    }
+
     void grow_columns() {
         resolve_specs();
         heights();
@@ -1136,6 +1167,20 @@ GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const Siz
 
 bool narrow_fans(LayerPlan& plan, const LayerPlan& again) {
     bool narrower = false;
+    {
+        const auto top_at = index_of_points(plan.tops.points);
+        for (size_t i = 0; i < again.tops.points.size(); ++i) {
+            const auto at = top_at.find({again.tops.points[i].x, again.tops.points[i].y});
+            if (at == top_at.end()) {
+                plan.tops.points.push_back(again.tops.points[i]);
+                plan.tops.sizes.push_back(again.tops.sizes[i]);
+                narrower = true;
+            } else if (again.tops.sizes[i] < 0.8 * plan.tops.sizes[at->second]) {
+                plan.tops.sizes[at->second] = again.tops.sizes[i];
+                narrower = true;
+            }
+        }
+    }
     const auto fan_at = index_of_points(plan.fans.points);
     for (size_t i = 0; i < again.fans.points.size(); ++i) {
         const auto at = fan_at.find({again.fans.points[i].x, again.fans.points[i].y});

@@ -91,6 +91,17 @@ struct LayerPlan {
     std::vector<double> fan_heights;
     /// Per curve: layers stand on it (the interior meets their outer edge, not the curve).
     std::vector<bool> walls;
+    /// Wall segments whose columns' tops stand more than 1.5 times the field there apart (a
+    /// convex wall under thick layers): caps at their middles that bring the tops to the
+    /// field. The pipeline places the walls for these as for the fans.
+    SizeCaps tops;
+    /// `fans` and `tops` as one set of caps.
+    SizeCaps caps() const {
+        SizeCaps all = fans;
+        all.points.insert(all.points.end(), tops.points.begin(), tops.points.end());
+        all.sizes.insert(all.sizes.end(), tops.sizes.begin(), tops.sizes.end());
+        return all;
+    }
 };
 
 /// Rounds of planning the fans again on the walls placed for them (narrow_fans), at most.
@@ -99,7 +110,8 @@ inline constexpr int kReplanRounds = 2;
 /// The fans of `plan` whose tops stand closer in `again` (the plan made again on the walls
 /// placed for `plan`) by more than a fifth: their gaps and heights taken from `again`. Fans
 /// of `again` that `plan` lacks (the first walls left them no room: every column cut back)
-/// join it. True when any changed or joined (the walls are then placed again).
+/// join it, and so do its caps for tops far apart (`tops`), new or more than a fifth smaller.
+/// True when any changed or joined (the walls are then placed again).
 bool narrow_fans(LayerPlan& plan, const LayerPlan& again);
 
 /// Grows the layers' columns on `d` as grow_layers does (and throws what it throws), without

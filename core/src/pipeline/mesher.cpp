@@ -183,7 +183,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         for (int round = 0; round < kReplanRounds; ++round) {
             if (!narrow_fans(plan, plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer)))
                 return;
-            rho.set_cap(plan.fans, kFanCapRatio);
+            rho.set_cap(plan.caps(), kFanCapRatio);
             d = discretise_boundary(domain, rho, bopt, observer);
             if (rho.interpolates()) set_interpolation_sources(rho, d);
         }
@@ -194,8 +194,8 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
                                 "second-order elements with boundary layers are not supported yet",
                                 {Subject::layers(0)});
         plan = plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
-        if (!plan.fans.empty()) {
-            rho.set_cap(plan.fans, kFanCapRatio);
+        if (!plan.fans.empty() || !plan.tops.empty()) {
+            rho.set_cap(plan.caps(), kFanCapRatio);
             d = discretise_boundary(domain, rho, bopt, observer);
             if (rho.interpolates()) set_interpolation_sources(rho, d);
             plan_fans_again();
