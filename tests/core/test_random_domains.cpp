@@ -400,6 +400,32 @@ TEST(RandomDomains, NeighbouringTopsFarApartForTheFieldSpaceTheirWallFiner) {
     expect_thirty_degrees_with_layers({663u, 617u, 201u, 452u});
 }
 
+// Layers on a whole outer loop: its tops, drawn together by (R - H) / R on the concave wall,
+// stood 1.5 times finer than the field inside. The interior took its first row from them and
+// then no point at all (its proposals too close to one another): the isotropic triangles
+// inside reached 6.5 times rho (seed 364, a constant density) and 27.3 degrees (429).
+TEST(RandomDomains, AFrontFinerThanTheFieldStillFillsTheInteriorAtTheField) {
+    expect_thirty_degrees_with_layers({364u, 429u});
+    const LayeredCase lc = layered_case(364);
+    const double* size = std::get_if<double>(&*lc.rc.density.size);
+    ASSERT_NE(size, nullptr) << "seed 364's density is no longer constant";
+    const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+    double longest = 0.0, sum = 0.0;
+    size_t edges = 0;
+    for (const Triangle& t : r.mesh.triangles) {
+        if (t.layer) continue;
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            const double l = distance(r.mesh.point(t.v[i]), r.mesh.point(t.v[(i + 1) % 3]));
+            longest = std::max(longest, l);
+            sum += l;
+            ++edges;
+        }
+    }
+    // Isotropic triangles at rho: their mean edge within 15% of it, none twice as long.
+    EXPECT_NEAR(sum / static_cast<double>(edges), *size, 0.15 * *size);
+    EXPECT_LT(longest, 2.0 * *size);
+}
+
 // Asking for a smallest angle never makes the smallest angle smaller beside boundary layers:
 // with min_angle_deg 28 the first three went from 24.6, 21.1 and 26.4 degrees to 6.8, 2.9 and
 // 5.2, the refinement's circumcentres landing next to the layers' column tops, in notches of
