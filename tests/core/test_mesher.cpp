@@ -307,6 +307,32 @@ TEST(Mesher, CurvesFarCoarserThanTheInteriorAreSpacedAgainToAgreeWithIt) {
                 own.quality.angle_min);
 }
 
+// Curves spaced finer than the size inside (0.02 on the square's sides, 1.3 to 4 times that
+// inside). The advancing front's first row then takes only every other place over a side, and
+// before the front closed on the points its candidates came too close to, every candidate
+// after that first row fell into a place not taken: 96 inner points and 24 degrees for every
+// ratio from 1.35 up (the agreement caps the inside beside the sides from 1.5 on, growing by
+// 1.5, which is as coarse next to them). The inside is meshed at the field (the mesh's own
+// edges against rho at their middles), with 30 degrees.
+TEST(Mesher, CurvesFinerThanTheInsideStillGetTheInsideFilledAtItsSize) {
+    const Domain dom = build_domain(unit_square());
+    for (const double ratio : {1.3, 1.4, 2.0, 4.0}) {
+        DensitySpec d;
+        for (const char* side : {"bottom", "right", "top", "left"}) d.curves.push_back({side, 0.02});
+        d.interior = InteriorMode::Expression;
+        d.interior_expression = std::to_string(0.02 * ratio);
+        const MeshResult r = generate_mesh(dom, d);
+        expect_valid(r.mesh, "square, curves finer than the inside");
+        EXPECT_GE(r.quality.size_ratio_within_sqrt2, 0.95) << ratio;
+        EXPECT_GE(r.quality.angle_min, 30.0) << ratio;
+        // At least 80% of the points of a mesh at the inside's size (equilateral triangles of
+        // side rho, two to a point: 2 / (sqrt 3 rho^2) on the unit square), the finer band
+        // along the sides only adding to them.
+        const double rho = 0.02 * ratio;
+        EXPECT_GT(static_cast<double>(r.quality.interior_points), 0.8 * 2.0 / (std::sqrt(3.0) * rho * rho)) << ratio;
+    }
+}
+
 // The paper's eq. 6.1 inside a far field of 0.4 r + 0.2 (segments of 4 at r = 10) around a
 // wing of small segments: the interior beside the far field takes the wing's sizes, and the far
 // field is spaced again to match; beside the leading edge, where eq. 6.1 averages in the

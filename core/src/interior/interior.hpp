@@ -7,8 +7,10 @@
 /// optionally corrects it towards (4.4) by a fixed-point iteration. C is accepted when every
 /// other point P is farther than (rho(C) + rho(P)) / 2 (4.22), AC and BC cross no front
 /// segment and no boundary or embedded segment, and C lies in the domain; then AB is
-/// replaced by AC and CB. Otherwise AB becomes inactive. The run ends when no segment is
-/// active.
+/// replaced by AC and CB. Otherwise AB becomes inactive; where C came too close to a point P
+/// beside AB on the front and the field is coarser than the front there, the front closes on
+/// P (AP and PB take AB's place), as the paper's front, finer than its field by a third or
+/// more, would otherwise die after one row. The run ends when no segment is active.
 ///
 /// Neighbour and crossing queries go through hashed grids by size class; being inside is
 /// decided by a straight walk in the constrained triangulation of the boundary, with exact
