@@ -253,7 +253,7 @@ private:
     // only every other place over the front (its candidates are the field apart, the front's
     // points closer), and each new segment's candidate falls into a place not taken: the
     // front died, the inside empty but for one row (a unit square's sides at 0.02 under 0.028
-    // inside: 96 inner points instead of 1,400). Where the field is as fine as the front, a
+    // inside: 96 inner points instead of 1,367). Where the field is as fine as the front, a
     // segment that dies leaves its place to its neighbours' points, and nothing changes. Not
     // when A, B and P are all points of the boundary: the triangle would be theirs alone. A
     // side whose opposite is a live segment meets it (both end). No point is added, so (4.22)
