@@ -1165,41 +1165,48 @@ GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const Siz
     return Grower(domain, d, rho, specs, max_points, observer, plan).run();
 }
 
-bool narrow_fans(LayerPlan& plan, const LayerPlan& again) {
-    bool narrower = false;
-    {
-        const auto top_at = index_of_points(plan.tops.points);
-        for (size_t i = 0; i < again.tops.points.size(); ++i) {
-            const auto at = top_at.find({again.tops.points[i].x, again.tops.points[i].y});
-            if (at == top_at.end()) {
-                plan.tops.points.push_back(again.tops.points[i]);
-                plan.tops.sizes.push_back(again.tops.sizes[i]);
-                narrower = true;
-            } else if (again.tops.sizes[i] < 0.8 * plan.tops.sizes[at->second]) {
-                plan.tops.sizes[at->second] = again.tops.sizes[i];
-                narrower = true;
-            }
-        }
-    }
-    const auto fan_at = index_of_points(plan.fans.points);
-    for (size_t i = 0; i < again.fans.points.size(); ++i) {
-        const auto at = fan_at.find({again.fans.points[i].x, again.fans.points[i].y});
-        if (at == fan_at.end()) {
-            // A fan the first walls left no room for (its columns all cut back), standing on
-            // the walls placed for the others.
-            plan.fans.points.push_back(again.fans.points[i]);
-            plan.fans.sizes.push_back(again.fans.sizes[i]);
-            plan.fan_heights.push_back(again.fan_heights[i]);
-            narrower = true;
+namespace {
+
+// `again`'s caps merged into `into`, found by their points: new ones join, and those more than
+// a fifth smaller replace theirs; `taken(i, k)` hears of each (i in `again`, k in `into`). True
+// when any did.
+template <class Taken>
+bool merge_caps(SizeCaps& into, const SizeCaps& again, Taken&& taken) {
+    bool changed = false;
+    const auto at_point = index_of_points(into.points);
+    for (size_t i = 0; i < again.points.size(); ++i) {
+        const auto at = at_point.find({again.points[i].x, again.points[i].y});
+        size_t k = 0;
+        if (at == at_point.end()) {
+            k = into.points.size();
+            into.points.push_back(again.points[i]);
+            into.sizes.push_back(again.sizes[i]);
+        } else if (again.sizes[i] < 0.8 * into.sizes[at->second]) {
+            k = at->second;
+            into.sizes[k] = again.sizes[i];
+        } else {
             continue;
         }
-        const size_t k = at->second;
-        if (!(again.fans.sizes[i] < 0.8 * plan.fans.sizes[k])) continue;
-        plan.fans.sizes[k] = again.fans.sizes[i];
-        plan.fan_heights[k] = again.fan_heights[i];
-        narrower = true;
+        taken(i, k);
+        changed = true;
     }
-    return narrower;
+    return changed;
+}
+
+}  // namespace
+
+bool narrow_fans(LayerPlan& plan, const LayerPlan& again) {
+    const bool tops = merge_caps(plan.tops, again.tops, [](size_t, size_t) {});
+    // A fan of `again` that `plan` lacks: the first walls left it no room (its columns all cut
+    // back), and it stands on the walls placed for the others.
+    const bool fans = merge_caps(plan.fans, again.fans, [&](size_t i, size_t k) {
+        if (k == plan.fan_heights.size()) {
+            plan.fan_heights.push_back(again.fan_heights[i]);
+        } else {
+            plan.fan_heights[k] = again.fan_heights[i];
+        }
+    });
+    return tops || fans;
 }
 
 LayerPlan plan_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
