@@ -307,16 +307,16 @@ TEST(Mesher, CurvesFarCoarserThanTheInteriorAreSpacedAgainToAgreeWithIt) {
                 own.quality.angle_min);
 }
 
-// Curves spaced finer than the size inside (0.02 on the square's sides, 1.3 to 4 times that
+// Curves spaced finer than the size inside (0.02 on the square's sides, 1.25 to 4 times that
 // inside). The advancing front's first row then takes only every other place over a side, and
 // before the front closed on the points its candidates came too close to, every candidate
-// after that first row fell into a place not taken: 96 inner points and 24 degrees for every
-// ratio from 1.35 up (the agreement caps the inside beside the sides from 1.5 on, growing by
-// 1.5, which is as coarse next to them). The inside is meshed at the field (the mesh's own
+// after that first row fell into a place not taken: 96 to 172 inner points and 24 to 26
+// degrees for every ratio from 1.25 up (the agreement caps the inside beside the sides from
+// 1.5 on, growing by 1.5, which is as coarse next to them). The inside is meshed at the field (the mesh's own
 // edges against rho at their middles), with 30 degrees.
 TEST(Mesher, CurvesFinerThanTheInsideStillGetTheInsideFilledAtItsSize) {
     const Domain dom = build_domain(unit_square());
-    for (const double ratio : {1.3, 1.4, 2.0, 4.0}) {
+    for (const double ratio : {1.25, 1.3, 1.4, 2.0, 4.0}) {
         DensitySpec d;
         for (const char* side : {"bottom", "right", "top", "left"}) d.curves.push_back({side, 0.02});
         d.interior = InteriorMode::Expression;
