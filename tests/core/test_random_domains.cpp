@@ -403,7 +403,8 @@ TEST(RandomDomains, NeighbouringTopsFarApartForTheFieldSpaceTheirWallFiner) {
 // Layers on a whole outer loop: its tops, drawn together by (R - H) / R on the concave wall,
 // stood 1.5 times finer than the field inside. The interior took its first row from them and
 // then no point at all (its proposals too close to one another): the isotropic triangles
-// inside reached 6.5 times rho (seed 364, a constant density) and 27.3 degrees (429).
+// inside reached 6.5 times rho (seed 364, a constant density) and 27.3 degrees (429). The
+// interior's front now closes on its neighbours there (interior.cpp, close_on).
 TEST(RandomDomains, AFrontFinerThanTheFieldStillFillsTheInteriorAtTheField) {
     expect_thirty_degrees_with_layers({364u, 429u});
     const LayeredCase lc = layered_case(364);

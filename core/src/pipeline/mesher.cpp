@@ -3,7 +3,6 @@
 #include "meshd/core/mesher.hpp"
 
 #include <chrono>
-#include <cmath>
 #include <optional>
 #include <unordered_map>
 
@@ -180,13 +179,16 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     // closer together than the walls were spaced for (a long slope of the outer edge down to
     // it), and a fan the earlier walls cut back entirely may stand on these. The walls are
     // placed again for those (narrow_fans), a few rounds at most.
+    auto place_walls_for_plan = [&] {
+        rho.set_cap(plan.caps(), kFanCapRatio);
+        d = discretise_boundary(domain, rho, bopt, observer);
+        if (rho.interpolates()) set_interpolation_sources(rho, d);
+    };
     auto plan_fans_again = [&] {
         for (int round = 0; round < kReplanRounds; ++round) {
             if (!narrow_fans(plan, plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer)))
                 return;
-            rho.set_cap(plan.caps(), kFanCapRatio);
-            d = discretise_boundary(domain, rho, bopt, observer);
-            if (rho.interpolates()) set_interpolation_sources(rho, d);
+            place_walls_for_plan();
         }
     };
     if (!options.boundary_layers.empty()) {
@@ -196,9 +198,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
                                 {Subject::layers(0)});
         plan = plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
         if (!plan.fans.empty() || !plan.tops.empty()) {
-            rho.set_cap(plan.caps(), kFanCapRatio);
-            d = discretise_boundary(domain, rho, bopt, observer);
-            if (rho.interpolates()) set_interpolation_sources(rho, d);
+            place_walls_for_plan();
             plan_fans_again();
             walls = triangulate_boundary(d);
         }
@@ -230,15 +230,6 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         layers = grow_layers(domain, d, rho, options.boundary_layers, options.max_points, observer, &plan);
         walls = triangulate_boundary(layers->front);
         if (options.curve_agreement) agree_interior_with_front(rho, layers->front);
-        // The outer edge's points are sized by their segments (layers.hpp); where the field
-        // there is coarser, by the field, as a curve's points are. The interior proposes each
-        // point at its segment's ends' sizes: a front up to 1.5 times finer than the field (a
-        // concave wall's tops, drawn together by (R - H) / R) left proposals too close to one
-        // another to be taken, and the interior empty but for one row (seed 364 of the random
-        // domains: isotropic edges up to 6.5 times rho).
-        Discretisation& front = layers->front;
-        for (VertexId v = static_cast<VertexId>(d.size()); v < front.size(); ++v)
-            front.rho[v] = std::fmax(front.rho[v], probe_interior(rho, front.point(v)));
     }
     const Discretisation& fixed = layers ? layers->front : d;
     r.timings.boundary_ms = ms_since(t0);
