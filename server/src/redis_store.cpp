@@ -26,7 +26,8 @@ using json = nlohmann::json;
 constexpr const char* kGroup = "workers";
 const std::string kPrefix = "{meshd}:";
 /// A job whose replica stopped this many times is failed instead of run again: it is
-/// probably what stops them.
+/// probably what stops them. A run whose replica lost the job's lease but lived on (its
+/// heartbeat came back to find the job moved) is not counted.
 constexpr int kMaxRuns = 5;
 /// Results are stored in chunks of this size (a Redis string holds at most 512 MB; one
 /// chunk per command keeps every command and reply small).
@@ -134,11 +135,17 @@ return {'run', f[3], tostring(runs)}
 )lua";
 
 // ARGV: prefix, consumer, entry, stage, progress. -> ok | cancel | moved | final
+// A job taken over while its runner lived on (paused or starved past its lease) gives back
+// the run it counted: that run did not stop its replica. The replica sends this once per job
+// after 'moved'.
 const std::string kHeartbeat = R"lua(
 local P = ARGV[1]
 local f = redis.call('HMGET', KEYS[1], 'status', 'runner', 'cancel')
 if f[1] ~= 'running' then return 'final' end
-if f[2] ~= ARGV[2] then return 'moved' end
+if f[2] ~= ARGV[2] then
+  redis.call('HINCRBY', KEYS[1], 'runs', -1)
+  return 'moved'
+end
 redis.call('HSET', KEYS[1], 'stage', ARGV[4], 'progress', ARGV[5])
 local p = redis.call('XPENDING', P .. 'queue', 'workers', ARGV[3], ARGV[3], 1)
 if p[1] and p[1][2] == ARGV[2] then redis.call('XCLAIM', P .. 'queue', 'workers', ARGV[2], 0, ARGV[3], 'JUSTID') end
@@ -700,7 +707,9 @@ void RedisStore::heartbeat_loop() {
         std::vector<std::pair<std::string, InFlight>> jobs;
         {
             std::lock_guard<std::mutex> lock(m_);
-            jobs.assign(inflight_.begin(), inflight_.end());
+            // A moved job was told once (its run given back); its worker is stopping it.
+            for (const auto& j : inflight_)
+                if (!j.second.moved) jobs.push_back(j);
         }
         if (!jobs.empty()) {
             std::vector<std::vector<std::string>> cmds;
