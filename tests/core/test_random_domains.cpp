@@ -195,8 +195,8 @@ TEST(RandomDomains, NoAngleBelowThirtyDegreesButTheDomainsOwn) {
 // inlet side (whichever of those tags the domain has; a random first height from 1e-5 to 1e-3
 // of the domain, growth 1.1 to 1.3, 5 to 30 layers): every mesh must be valid (quads convex
 // and conforming, cells counted in the Euler characteristic) or the request refused clearly,
-// and its triangles keep 30 degrees (issue 15: every domain of the property tests; none of
-// these seeds' domains has an angle of its own below 30 where layers grow).
+// and its triangles keep 30 degrees (issue 15: every domain of the property tests), but those
+// with two sides on curves (smallest_free_angle).
 TEST(RandomDomains, WithBoundaryLayersEveryMeshIsValidOrTheRequestIsRefusedClearly) {
     std::uint64_t meshed = 0, refused = 0;
     for (std::uint64_t seed = 1; seed <= 200; ++seed) {
