@@ -447,3 +447,32 @@ TEST(RandomDomains, AskingForASmallestAngleBesideLayersNeverLowersIt) {
         EXPECT_GE(with, without) << "seed " << seed << " at (" << at.x << ", " << at.y << ")";
     }
 }
+
+// A fan turns by 30 degrees a step, so its tops stand 0.52 times its height apart: under
+// layers several times the field thick, the outer edge across a step was three times the
+// field beside it (seed 1234: a fan at a wall's end round to the line it ends on, 28.0
+// degrees beside it). The fan gains columns between its own there until its tops are about
+// the field apart: every segment of the layers' outer edge is then within twice the target
+// size at its ends (it was 3.6 times).
+TEST(RandomDomains, AFanUnderLayersThickForTheFieldGainsColumnsUntilItsTopsAreTheFieldApart) {
+    expect_thirty_degrees_with_layers({1234u});
+    const LayeredCase lc = layered_case(1234);
+    const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+    const Mesh& m = r.mesh;
+    // The outer edge: an isotropic triangle's sides between two layer points.
+    double worst = 0.0;
+    size_t outer = 0;
+    for (const Triangle& t : m.triangles) {
+        if (t.layer) continue;
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            const VertexId a = t.v[i], b = t.v[(i + 1) % 3];
+            if (m.kind[a] != PointKind::Layer || m.kind[b] != PointKind::Layer) continue;
+            const double ratio = distance(m.point(a), m.point(b)) / (0.5 * (m.target_size[a] + m.target_size[b]));
+            worst = std::max(worst, ratio);
+            ++outer;
+        }
+    }
+    std::printf("[ seed 1234 ] %zu outer-edge segments, the longest %.2f times the target size\n", outer, worst);
+    EXPECT_GT(outer, 50u);
+    EXPECT_LT(worst, 2.0);
+}
