@@ -102,7 +102,11 @@ public:
     void discretise(CurveId c) {
         const DomainCurve& dc = domain_.curves()[c];
         const Curve& g = *dc.geometry;
-        auto param = make_parametrisation(g, opt_.spline_spacing);
+        // The domain's own arc length, but for the paper's control polygon of a B-spline.
+        std::unique_ptr<CurveParametrisation> own;
+        if ((opt_.spline_spacing == SplineSpacing::ControlPolygon && g.as_bspline()) || !dc.arc_length)
+            own = make_parametrisation(g, opt_.spline_spacing);
+        const CurveParametrisation* param = own ? own.get() : dc.arc_length.get();
         std::vector<VertexId>& out = d_.curve_vertices[c];
         std::vector<double> cuts{g.t_begin()};
         for (double t : g.corners()) cuts.push_back(t);

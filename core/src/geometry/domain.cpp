@@ -343,7 +343,7 @@ std::map<CurveId, std::vector<CurveId>> split_where_embedded_ends(std::vector<Do
                    list.end());
         std::sort(list.begin(), list.end(), [](const Touch& a, const Touch& b) { return a.t < b.t; });
         const std::shared_ptr<const Curve> whole = curves[c].geometry;
-        const DomainCurve original{curves[c].name, curves[c].tag, whole, curves[c].from, curves[c].to, 0.0};
+        const DomainCurve original{curves[c].name, curves[c].tag, whole, curves[c].from, curves[c].to, 0.0, nullptr};
         std::vector<CurveId>& ids = parts[c];
         double ta = whole->t_begin();
         PointId from = original.from;
@@ -355,8 +355,9 @@ std::map<CurveId, std::vector<CurveId>> split_where_embedded_ends(std::vector<Do
                                     "two embedded curves end at the same place on curve " + quoted(original.name) +
                                         " by different points: use one point for both",
                                     {Subject::curve(original.name)});
-            DomainCurve part{original.name, original.tag, make_part(whole, ta, tb), from, to, 0.0};
-            part.length = curve_length(*part.geometry);
+            DomainCurve part{original.name, original.tag, make_part(whole, ta, tb), from, to, 0.0, nullptr};
+            part.arc_length = make_arc_length(*part.geometry);
+            part.length = part.arc_length->length();
             const CurveId id = i == 0 ? c : static_cast<CurveId>(curves.size());
             if (i == 0) curves[c] = std::move(part);
             else curves.push_back(std::move(part));
@@ -541,7 +542,8 @@ Domain build_domain(const DomainSpec& spec, Observer* observer) {
                                     std::to_string(ge.y) + "), not at its \"to\" point",
                                 {Subject::curve(dc.name, {"to"})});
         try {
-            dc.length = curve_length(*dc.geometry);
+            dc.arc_length = make_arc_length(*dc.geometry);
+            dc.length = dc.arc_length->length();
         } catch (GeometryError& e) {
             name_curve(e, dc.name);
             throw;

@@ -471,6 +471,7 @@ private:
     // Curves that columns slide on, by arc length: the parameter at arc length s from the
     // curve's start, its point, and the arc length of a parameter.
     const CurveParametrisation& arc(CurveId c) const {
+        if (const auto& shared = domain_.curves()[c].arc_length) return *shared;
         auto it = arcs_.find(c);
         if (it == arcs_.end()) it = arcs_.emplace(c, make_arc_length(*domain_.curves()[c].geometry)).first;
         return *it->second;
@@ -1201,7 +1202,7 @@ private:
     std::vector<std::vector<double>> level_;
     std::vector<Chain> chains_;
     std::vector<int> quad_spec_;
-    mutable std::map<CurveId, std::unique_ptr<CurveParametrisation>> arcs_;
+    mutable std::map<CurveId, std::unique_ptr<CurveParametrisation>> arcs_;  // curves the domain has none for
 };
 
 }  // namespace
