@@ -267,18 +267,22 @@ std::pair<std::vector<Vec2>, std::vector<double>> random_sources(size_t n, std::
 }
 }  // namespace
 
-// Below kDirectSources the field is the formula summed in another order: equal to the
-// one-term-at-a-time sum but for rounding, wherever the point; above it, the treecode.
+// Up to kDirectSources the sum is the formula summed in another order: equal to the
+// one-term-at-a-time sum but for rounding, wherever the point; above it, the treecode. Up to
+// kCellSources the field is that sum.
 TEST(InverseDistance, FewSourcesAreSummedTermByTerm) {
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (size_t n : {size_t{1}, size_t{3}, size_t{4}, size_t{7}, size_t{150}, kDirectSources, kDirectSources + 1}) {
+    for (size_t n : {size_t{1}, size_t{3}, size_t{4}, size_t{7}, kCellSources, size_t{150}, kDirectSources, kDirectSources + 1}) {
         const auto [a, len] = random_sources(n, rng);
         const InverseDistanceField field(a, len);
         double worst = 0.0;
         for (int k = 0; k < 500; ++k) {
             const Vec2 p{3.0 * u(rng) - 1.0, 3.0 * u(rng) - 1.0};
-            worst = std::fmax(worst, std::fabs(field(p) - field.exact(p)) / field.exact(p));
+            worst = std::fmax(worst, std::fabs(field.summed(p) - field.exact(p)) / field.exact(p));
+            if (n <= kCellSources) {
+                ASSERT_EQ(field(p), field.summed(p)) << n << " sources";
+            }
         }
         // Term by term the weights 1/d are single-precision: a squared distance rounded to
         // float, its square root and the reciprocal each within half a float ulp (2^-24),
@@ -288,7 +292,10 @@ TEST(InverseDistance, FewSourcesAreSummedTermByTerm) {
             EXPECT_LE(worst, 4e-7) << n << " sources";
         else
             EXPECT_GT(worst, 1e-6) << n << " sources: the treecode";
-        for (size_t i = 0; i < n; i += 1 + n / 7) EXPECT_EQ(field(a[i]), len[i]) << n << " sources, at source " << i;
+        for (size_t i = 0; i < n; i += 1 + n / 7) {
+            EXPECT_EQ(field(a[i]), len[i]) << n << " sources, at source " << i;
+            EXPECT_EQ(field.summed(a[i]), len[i]) << n << " sources, at source " << i;
+        }
         // Squared distances beyond the floats' range are summed in double.
         if (n <= kDirectSources) {
             for (const Vec2 far : {Vec2{1e20, 0.0}, Vec2{-3e19, 2e19}})
@@ -383,6 +390,72 @@ TEST(InverseDistance, TreecodeMeetsItsBoundAgainstTheExactFormula) {
     const double mid = f.interior({0.5, 0.5});
     EXPECT_GT(mid, 0.0);
     EXPECT_NEAR(mid, field.exact({0.5, 0.5}), 1e-3 * mid);
+}
+
+// The cells (inverse_distance.hpp) hold their bound: Fig. 9's boundary and random sources,
+// probed anywhere, a hair from a source and on one, at several tolerances. Their error comes
+// from the far sources' cubic polynomials alone, so it falls with the tolerance.
+TEST(InverseDistance, CellsMeetTheirBoundAgainstTheExactFormula) {
+    const Domain d = build_domain(naca_in_circle("0012", 20.0));
+    DensitySpec spec;
+    spec.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
+                   {"wing", std::string("0.05*sqrt((x+0.01)^2+y^2)")}};
+    spec.min = 1e-3;
+    SizeField f(spec, d);
+    const Discretisation disc = discretise_boundary(d, f);
+    std::vector<Vec2> fig9;
+    std::vector<double> fig9_lengths;
+    for (const auto& s : disc.segments) {
+        fig9.push_back(disc.point(s.a));
+        fig9_lengths.push_back(distance(disc.point(s.a), disc.point(s.b)));
+    }
+    ASSERT_GT(fig9.size(), kCellSources);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const auto [square, square_lengths] = random_sources(5000, rng);
+    struct Case {
+        const std::vector<Vec2>* a;
+        const std::vector<double>* len;
+        Vec2 lo, hi;  // where to probe
+    };
+    for (const Case& c : {Case{&fig9, &fig9_lengths, {-20.0, -20.0}, {21.0, 20.0}},
+                          Case{&fig9, &fig9_lengths, {-0.1, -0.2}, {1.1, 0.2}},
+                          Case{&square, &square_lengths, {-1.0, -1.0}, {2.0, 2.0}}}) {
+        double last = HUGE_VAL;
+        for (double tol : {1e-2, 1e-3, 1e-4, 1e-6}) {
+            const InverseDistanceField field(*c.a, *c.len, tol);
+            double worst = 0.0;
+            for (int k = 0; k < 6000; ++k) {
+                const size_t i = static_cast<size_t>(k) % c.a->size();
+                Vec2 p = k % 3 == 0 ? Vec2{c.lo.x + (c.hi.x - c.lo.x) * u(rng), c.lo.y + (c.hi.y - c.lo.y) * u(rng)}
+                                    : (*c.a)[i] + Vec2{1e-9 * (u(rng) - 0.5), 1e-9 * (u(rng) - 0.5)};
+                if (k % 30 == 1) {
+                    ASSERT_EQ(field((*c.a)[i]), (*c.len)[i]) << "on source " << i;
+                    continue;
+                }
+                const double exact = field.exact(p);
+                worst = std::fmax(worst, std::fabs(field(p) - exact) / exact);
+            }
+            std::printf("[ cells ] %zu sources, tolerance %g: worst relative error %.3g\n", c.a->size(), tol, worst);
+            EXPECT_LE(worst, tol + 4e-7) << c.a->size() << " sources, tolerance " << tol;  // + the near sums' floats
+            EXPECT_GT(worst, 1e-9) << "the polynomials are really used";
+            EXPECT_LT(worst, last) << "a smaller tolerance, a smaller error";
+            last = worst;
+        }
+    }
+    // Sources that coincide cannot be parted into cells: the cells stop, and the value holds.
+    std::vector<Vec2> heap(200, Vec2{0.25, 0.75});
+    std::vector<double> heap_lengths(200, 0.5);
+    for (size_t i = 0; i < 100; ++i) {
+        heap.push_back({u(rng), u(rng)});
+        heap_lengths.push_back(0.01 + u(rng));
+    }
+    const InverseDistanceField field(heap, heap_lengths);
+    for (int k = 0; k < 500; ++k) {
+        const Vec2 p = k % 2 ? Vec2{u(rng), u(rng)} : Vec2{0.25 + 1e-12 * u(rng), 0.75};
+        EXPECT_NEAR(field(p), field.exact(p), 1e-3 * field.exact(p)) << k;
+    }
+    EXPECT_EQ(field(Vec2{0.25, 0.75}), 0.5);
 }
 
 // Found by fuzz/fuzz_request (timeout acae571a): a size of 9e8 on half of a domain 12 wide

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -25,6 +26,42 @@ namespace {
 
 double delta_of(double theta) {
     return theta * theta * (1.0 + theta) / ((1.0 - theta) * (1.0 - theta) * (1.0 - theta));
+}
+
+// The cells' bound (inverse_distance.hpp): each far term within this share of its value.
+double cell_delta_of(double phi) { return phi * phi * phi * phi * (1.0 + phi) / (1.0 - phi); }
+
+// The largest x in (0, 0.5) with f(x) <= bound, f increasing.
+template <class F>
+double largest_within(F f, double bound) {
+    double lo = 0.0, hi = 0.5;
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (f(mid) <= bound ? lo : hi) = mid;
+    }
+    return lo;
+}
+
+// sum a[i][j] dx^i dy^j over i + j <= 3.
+double cubic(const double (&a)[4][4], double dx, double dy) {
+    const double x2 = dx * dx, y2 = dy * dy;
+    return a[0][0] + a[1][0] * dx + a[0][1] * dy + a[2][0] * x2 + a[1][1] * dx * dy + a[0][2] * y2 +
+           a[3][0] * x2 * dx + a[2][1] * x2 * dy + a[1][2] * dx * y2 + a[0][3] * y2 * dy;
+}
+
+// The same polynomial in (P - (C + d)) instead of (P - C).
+void move_cubic(const double (&a)[4][4], double dx, double dy, double (&out)[4][4]) {
+    static constexpr double kBinomial[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    double px[4] = {1, dx, dx * dx, dx * dx * dx}, py[4] = {1, dy, dy * dy, dy * dy * dy};
+    for (int k = 0; k < 4; ++k)
+        for (int l = 0; k + l < 4; ++l) {
+            double sum = 0.0;
+            for (int i = k; i < 4; ++i)
+                for (int j = l; i + j < 4; ++j) sum += a[i][j] * kBinomial[i][k] * kBinomial[j][l] * px[i - k] * py[j - l];
+            out[k][l] = sum;
+        }
+    for (int k = 0; k < 4; ++k)
+        for (int l = 4 - k; l < 4; ++l) out[k][l] = 0.0;
 }
 
 #if defined(__SSE2__)
@@ -150,14 +187,10 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
     : a_(std::move(starts)), rho_(std::move(values)) {
     MESHD_INTERNAL_CHECK(a_.size() == rho_.size() && !a_.empty(), "eq. 6.1 needs sources");
     MESHD_INTERNAL_CHECK(tolerance > 0.0 && tolerance < 1.0, "tolerance out of range");
-    // Largest theta whose per-sum bound keeps the ratio within the tolerance.
+    // The largest opening angles whose per-sum bounds keep the ratio within the tolerance.
     const double delta_max = tolerance / (2.0 + tolerance);
-    double lo = 0.0, hi = 0.5;
-    for (int i = 0; i < 60; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (delta_of(mid) <= delta_max ? lo : hi) = mid;
-    }
-    theta_ = lo;
+    theta_ = largest_within(delta_of, delta_max);
+    phi_ = largest_within(cell_delta_of, delta_max);
     // The sources in tree order, and the treecode's sums over every node.
     const detail::KdLayout tree(a_);
     std::vector<Vec2> a;
@@ -202,6 +235,27 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
         }
         nodes_.push_back(n);
     }
+    if (a_.size() > kCellSources) {
+        // The root: the sources' box, every source near it.
+        Vec2 lo = a_.front(), hi = a_.front();
+        for (const Vec2& v : a_) {
+            lo = {std::fmin(lo.x, v.x), std::fmin(lo.y, v.y)};
+            hi = {std::fmax(hi.x, v.x), std::fmax(hi.y, v.y)};
+        }
+        Cell root{};
+        root.centre = 0.5 * (lo + hi);
+        root.half = 0.5 * std::fmax(hi.x - lo.x, hi.y - lo.y) * (1.0 + 1e-9);
+        if (!(root.half > 0.0)) root.half = std::fmax(1e-300, std::fabs(root.centre.x) + std::fabs(root.centre.y));
+        for (size_t i = 0; i < a_.size(); ++i) {
+            near_x_.push_back(a_[i].x);
+            near_y_.push_back(a_[i].y);
+            near_rho_.push_back(rho_[i]);
+        }
+        root.near_begin = 0;
+        root.near_end = static_cast<std::uint32_t>(a_.size());
+        root.leaf = false;
+        cells_.push_back(root);
+    }
 }
 
 double InverseDistanceField::direct(Vec2 p) const {
@@ -227,7 +281,113 @@ double InverseDistanceField::direct(Vec2 p) const {
 }
 
 double InverseDistanceField::operator()(Vec2 p) const {
+    return a_.size() <= kCellSources ? direct(p) : through_cells(p);
+}
+
+double InverseDistanceField::summed(Vec2 p) const {
     return a_.size() <= kDirectSources ? direct(p) : treecode(p);
+}
+
+void InverseDistanceField::add_far(Cell& cell, double x, double y, double rho) const {
+    // The Legendre series of 1/|P - A| about the centre to l = 3, in u = C - A and
+    // d = P - C: 1/R - s/R^3 + (3 s^2 - R^2 q) / (2 R^5) - (5 s^3 - 3 R^2 s q) / (2 R^7),
+    // s = u.d, q = d.d, written out in the monomials dx^i dy^j.
+    const double ux = cell.centre.x - x, uy = cell.centre.y - y;
+    const double r2 = ux * ux + uy * uy, r = std::sqrt(r2);
+    const double i1 = 1.0 / r, i3 = i1 / r2, i5 = i3 / r2, i7 = i5 / r2;
+    double t[4][4] = {};
+    t[0][0] = i1;
+    t[1][0] = -ux * i3;
+    t[0][1] = -uy * i3;
+    t[2][0] = 0.5 * (3.0 * ux * ux - r2) * i5;
+    t[1][1] = 3.0 * ux * uy * i5;
+    t[0][2] = 0.5 * (3.0 * uy * uy - r2) * i5;
+    t[3][0] = -0.5 * (5.0 * ux * ux * ux - 3.0 * r2 * ux) * i7;
+    t[2][1] = -0.5 * (15.0 * ux * ux * uy - 3.0 * r2 * uy) * i7;
+    t[1][2] = -0.5 * (15.0 * ux * uy * uy - 3.0 * r2 * ux) * i7;
+    t[0][3] = -0.5 * (5.0 * uy * uy * uy - 3.0 * r2 * uy) * i7;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; i + j < 4; ++j) {
+            cell.den[i][j] += t[i][j];
+            cell.num[i][j] += rho * t[i][j];
+        }
+}
+
+std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadrant) const {
+    Cell c{};
+    {
+        const Cell& p = cells_[parent];
+        c.half = 0.5 * p.half;
+        c.centre = {p.centre.x + ((quadrant & 1) ? c.half : -c.half), p.centre.y + ((quadrant & 2) ? c.half : -c.half)};
+        move_cubic(p.num, c.centre.x - p.centre.x, c.centre.y - p.centre.y, c.num);
+        move_cubic(p.den, c.centre.x - p.centre.x, c.centre.y - p.centre.y, c.den);
+        c.near_begin = p.near_begin;  // the parent's range, read below
+        c.near_end = p.near_end;
+    }
+    // Far: at least the half-diagonal / phi from the centre, so that |P - C| / R <= phi.
+    const double far = c.half * std::numbers::sqrt2 / phi_;
+    const double far2 = far * far;
+    const std::uint32_t from = c.near_begin, to = c.near_end;
+    c.near_begin = static_cast<std::uint32_t>(near_x_.size());
+    for (std::uint32_t i = from; i < to; ++i) {
+        const double x = near_x_[i], y = near_y_[i], rho = near_rho_[i];
+        const double dx = x - c.centre.x, dy = y - c.centre.y;
+        if (dx * dx + dy * dy >= far2) {
+            add_far(c, x, y, rho);
+        } else {
+            near_x_.push_back(x);
+            near_y_.push_back(y);
+            near_rho_.push_back(rho);
+        }
+    }
+    c.near_end = static_cast<std::uint32_t>(near_x_.size());
+    // Sources that coincide cannot be parted: past 2^-40 of the root's width a cell is a leaf.
+    c.leaf = c.near_end - c.near_begin <= kCellNearSources || c.half < cells_[0].half * 0x1p-40;
+    const auto id = static_cast<std::uint32_t>(cells_.size());
+    cells_.push_back(c);
+    cells_[parent].child[quadrant] = id;
+    return id;
+}
+
+double InverseDistanceField::through_cells(Vec2 p) const {
+    auto inside = [&](const Cell& c) { return std::fabs(p.x - c.centre.x) <= c.half && std::fabs(p.y - c.centre.y) <= c.half; };
+    // Outside the sources' box (not inside a domain they bound): summed.
+    if (!inside(cells_[0])) return summed(p);
+    std::uint32_t k = last_leaf_;
+    if (!inside(cells_[k]) || !cells_[k].leaf) {
+        k = 0;
+        while (!cells_[k].leaf) {
+            const Cell& c = cells_[k];
+            const int q = (p.x >= c.centre.x ? 1 : 0) + (p.y >= c.centre.y ? 2 : 0);
+            k = c.child[q] != 0 ? c.child[q] : make_child(k, q);
+        }
+        last_leaf_ = k;
+    }
+    const Cell& c = cells_[k];
+    const double dx = p.x - c.centre.x, dy = p.y - c.centre.y;
+    double num = cubic(c.num, dx, dy), den = cubic(c.den, dx, dy);
+    const double* x = near_x_.data() + c.near_begin;
+    const double* y = near_y_.data() + c.near_begin;
+    const double* r = near_rho_.data() + c.near_begin;
+    const size_t n = c.near_end - c.near_begin;
+    size_t i = 0;
+#if defined(__SSE2__)
+    double near_num = 0.0, near_den = 0.0;
+    if (sum_by_fours(x, y, r, n, p, near_num, near_den)) {
+        num += near_num;
+        den += near_den;
+        i = n & ~size_t{3};
+    }
+#endif
+    for (; i < n; ++i) {
+        const double ex = p.x - x[i], ey = p.y - y[i];
+        const double d2 = ex * ex + ey * ey;
+        if (d2 == 0.0) return r[i];
+        const double w = 1.0 / std::sqrt(d2);
+        den += w;
+        num += r[i] * w;
+    }
+    return num / den;
 }
 
 double InverseDistanceField::treecode(Vec2 p) const {

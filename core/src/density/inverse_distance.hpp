@@ -13,6 +13,19 @@
 ///   delta(theta) = theta^2 (1 + theta) / (1 - theta)^3,  theta = r / D,
 /// and the ratio's relative error is at most 2 delta / (1 - delta). The opening angle theta
 /// is chosen from the requested tolerance so that this bound holds.
+///
+/// The pipeline asks the field at some eight points per mesh point (the interior's
+/// candidates, the quality figures, the points' target sizes), each with every source. So
+/// queries go through cells of a quadtree built as they come: a cell keeps the sum over the
+/// sources far from it (at least 1/phi of its half-diagonal from its centre) as a cubic
+/// polynomial about its centre, and the near ones as a list, summed term by term. 1/|P - A|
+/// expanded about the centre C in Legendre polynomials, sum_l (-1)^l t^l P_l(cos g) / R with
+/// R = |C - A| and t = |P - C| / R <= phi, leaves after the cubic term at most
+/// t^4 / ((1 - t) R), so each far term is within delta = phi^4 (1 + phi) / (1 - phi) of its
+/// value, and the ratio within 2 delta / (1 - delta) as above. A cell is split (its children
+/// made on first use) while it has more than kCellNearSources near sources; a child takes its
+/// parent's polynomial moved to its own centre plus those of its parent's near sources that
+/// are far from it, so making one costs its parent's near list, not every source.
 
 #include <cstdint>
 #include <vector>
@@ -21,13 +34,18 @@
 
 namespace meshd::core {
 
-/// Up to this many sources eq. 6.1 is summed term by term, four or eight terms per
-/// instruction. The treecode at the tolerance 1e-3 accepts a node only 45 of its radii away,
+/// Up to this many sources summed() adds eq. 6.1 term by term, four or eight terms per
+/// instruction (above, the treecode; the field itself goes through the cells). The treecode at the tolerance 1e-3 accepts a node only 45 of its radii away,
 /// so it costs about 1 us at 150 sources and 4.4 to 4.7 us from 1,500 to 15,000; the plain sum
 /// 0.51 ns per source on 256-bit registers (bench/bench_boundary.cpp, BM_InverseDistance,
 /// 2026-12-03): they meet near 9,000. (On a processor without AVX the sum costs 1.28 ns per
 /// source, and the treecode would be the faster from about 3,500.)
 inline constexpr size_t kDirectSources = 8192;
+/// Above this many sources queries go through the cells (Fig. 9's 378 sources: the sum cost
+/// 0.2 us a query); below, the term-by-term sum.
+inline constexpr size_t kCellSources = 64;
+/// A cell with more near sources than this is split.
+inline constexpr size_t kCellNearSources = 48;
 
 namespace detail {
 /// Whether the term-by-term sum runs on 256-bit registers (where the processor has AVX):
@@ -42,10 +60,13 @@ public:
     InverseDistanceField(std::vector<Vec2> starts, std::vector<double> values,
                          double tolerance = 1e-3);
 
-    /// rho at p: summed term by term below kDirectSources sources (the weights 1/d_i in
-    /// single precision, the sums in double: within 4e-7 of the exact value, and faster there
-    /// than the tree), else the treecode.
+    /// rho at p: summed term by term up to kCellSources sources (the weights 1/d_i in single
+    /// precision, the sums in double: within 4e-7 of the exact value), else through the cells
+    /// (within the tolerance). The cells are made as queries come: one thread at a time.
     double operator()(Vec2 p) const;
+    /// The term-by-term sum whatever the number of sources (for tests and benchmarks; it
+    /// takes the treecode's place above kDirectSources).
+    double summed(Vec2 p) const;
     /// The treecode whatever the number of sources (for its tests and benchmarks).
     double treecode(Vec2 p) const;
     /// The formula summed term by term, O(N), one term at a time: the reference for tests.
@@ -63,11 +84,29 @@ private:
     // (vectorised; single-precision weights).
     double direct(Vec2 p) const;
 
+    // A cell of the query quadtree: the far sources' sums as cubic polynomials in
+    // (P - centre), coefficient [i][j] of dx^i dy^j (i + j <= 3), and its near sources.
+    struct Cell {
+        Vec2 centre;
+        double half;  // half its width
+        double num[4][4], den[4][4];
+        std::uint32_t near_begin, near_end;  // into near_x_, near_y_, near_rho_
+        std::uint32_t child[4];              // 0: not made yet
+        bool leaf;
+    };
+    double through_cells(Vec2 p) const;
+    std::uint32_t make_child(std::uint32_t parent, int quadrant) const;
+    void add_far(Cell& cell, double x, double y, double rho) const;
+
     std::vector<Vec2> a_;
     std::vector<double> rho_;
     std::vector<double> x_, y_;  // a_ split, for direct(): only up to kDirectSources
     std::vector<Node> nodes_;
     double theta_;  // the opening angle that keeps the relative error within the tolerance
+    double phi_;    // the cells' (far: at least half-diagonal / phi from the centre)
+    mutable std::vector<Cell> cells_;  // [0]: the root, over the sources' box
+    mutable std::vector<double> near_x_, near_y_, near_rho_;
+    mutable std::uint32_t last_leaf_ = 0;  // the last query's cell (queries come in runs)
 };
 
 }  // namespace meshd::core
