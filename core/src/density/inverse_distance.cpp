@@ -235,7 +235,7 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
         }
         nodes_.push_back(n);
     }
-    if (a_.size() > kCellSources) {
+    if (a_.size() > kCellSources && a_.size() <= kCellMaxSources) {
         // The root: the sources' box, every source near it.
         Vec2 lo = a_.front(), hi = a_.front();
         for (const Vec2& v : a_) {
@@ -281,7 +281,7 @@ double InverseDistanceField::direct(Vec2 p) const {
 }
 
 double InverseDistanceField::operator()(Vec2 p) const {
-    return a_.size() <= kCellSources ? direct(p) : through_cells(p);
+    return cells_.empty() ? summed(p) : through_cells(p);
 }
 
 double InverseDistanceField::summed(Vec2 p) const {

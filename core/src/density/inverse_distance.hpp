@@ -41,9 +41,13 @@ namespace meshd::core {
 /// 2026-12-03): they meet near 9,000. (On a processor without AVX the sum costs 1.28 ns per
 /// source, and the treecode would be the faster from about 3,500.)
 inline constexpr size_t kDirectSources = 8192;
-/// Above this many sources queries go through the cells (Fig. 9's 378 sources: the sum cost
-/// 0.2 us a query); below, the term-by-term sum.
+/// Above this many sources and up to kCellMaxSources queries go through the cells (Fig. 9's
+/// 378 sources: the sum cost 0.2 us a query); below, the term-by-term sum.
 inline constexpr size_t kCellSources = 64;
+/// Each cell keeps its own copy of its near sources, and a source is near some 75 cells of
+/// each level it is split at: about 14 KB a source once the plane is queried all over (56 MB
+/// at 4,000 sources, 220 MB at 16,000). Above this many the field is summed() instead.
+inline constexpr size_t kCellMaxSources = 1024;
 /// A cell with more near sources than this is split.
 inline constexpr size_t kCellNearSources = 48;
 
@@ -61,8 +65,9 @@ public:
                          double tolerance = 1e-3);
 
     /// rho at p: summed term by term up to kCellSources sources (the weights 1/d_i in single
-    /// precision, the sums in double: within 4e-7 of the exact value), else through the cells
-    /// (within the tolerance). The cells are made as queries come: one thread at a time.
+    /// precision, the sums in double: within 4e-7 of the exact value), through the cells up
+    /// to kCellMaxSources (within the tolerance and 4e-7), else summed(). The cells are made
+    /// as queries come: one thread at a time.
     double operator()(Vec2 p) const;
     /// The term-by-term sum whatever the number of sources (for tests and benchmarks; it
     /// takes the treecode's place above kDirectSources).
