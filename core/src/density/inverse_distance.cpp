@@ -102,6 +102,48 @@ bool sum_by_fours_sse2(const double* x, const double* y, const double* r, size_t
 }
 #endif
 
+// The cells' near sums: the weights of sources [b, e) at p added to two pairs of lanes, four
+// sources a step as in sum_by_fours_sse2, the last step's lanes past e masked to zero (the
+// arrays hold three entries past the last source). One code for every processor: a cell sums
+// a few short ranges, where a call per range and the scalar tails cost more than the width.
+// False when a squared distance left the floats' normal range.
+#if defined(__SSE2__)
+struct NearSums {
+    __m128d num0 = _mm_setzero_pd(), den0 = _mm_setzero_pd(), num1 = _mm_setzero_pd(), den1 = _mm_setzero_pd();
+    __m128 out = _mm_setzero_ps();
+    void add(const double* x, const double* y, const double* r, size_t b, size_t e, Vec2 p) {
+        const __m128d px = _mm_set1_pd(p.x), py = _mm_set1_pd(p.y);
+        const __m128 one = _mm_set1_ps(1.0f), low = _mm_set1_ps(std::numeric_limits<float>::min()),
+                     high = _mm_set1_ps(std::numeric_limits<float>::max());
+        for (size_t i = b; i < e; i += 4) {
+            const __m128d dx0 = _mm_sub_pd(px, _mm_loadu_pd(x + i)), dy0 = _mm_sub_pd(py, _mm_loadu_pd(y + i));
+            const __m128d dx1 = _mm_sub_pd(px, _mm_loadu_pd(x + i + 2)), dy1 = _mm_sub_pd(py, _mm_loadu_pd(y + i + 2));
+            const __m128d d0 = _mm_add_pd(_mm_mul_pd(dx0, dx0), _mm_mul_pd(dy0, dy0));
+            const __m128d d1 = _mm_add_pd(_mm_mul_pd(dx1, dx1), _mm_mul_pd(dy1, dy1));
+            const __m128 d = _mm_movelh_ps(_mm_cvtpd_ps(d0), _mm_cvtpd_ps(d1));
+            const size_t left = e - i;
+            const __m128 valid = _mm_castsi128_ps(_mm_set_epi32(left > 3 ? -1 : 0, left > 2 ? -1 : 0, left > 1 ? -1 : 0, -1));
+            out = _mm_or_ps(out, _mm_and_ps(valid, _mm_or_ps(_mm_cmplt_ps(d, low), _mm_cmpgt_ps(d, high))));
+            const __m128 w = _mm_and_ps(valid, _mm_div_ps(one, _mm_sqrt_ps(d)));
+            const __m128d w0 = _mm_cvtps_pd(w), w1 = _mm_cvtps_pd(_mm_movehl_ps(w, w));
+            den0 = _mm_add_pd(den0, w0);
+            den1 = _mm_add_pd(den1, w1);
+            num0 = _mm_add_pd(num0, _mm_mul_pd(_mm_loadu_pd(r + i), w0));
+            num1 = _mm_add_pd(num1, _mm_mul_pd(_mm_loadu_pd(r + i + 2), w1));
+        }
+    }
+    bool sums(double& num, double& den) const {
+        if (_mm_movemask_ps(out) != 0) return false;
+        alignas(16) double lanes[2];
+        _mm_store_pd(lanes, _mm_add_pd(num0, num1));
+        num = lanes[0] + lanes[1];
+        _mm_store_pd(lanes, _mm_add_pd(den0, den1));
+        den = lanes[0] + lanes[1];
+        return true;
+    }
+};
+#endif
+
 #if defined(MESHD_AVX_SUM)
 // sum_by_fours_sse2 on 256-bit registers where the processor has them (AVX): eight sources a
 // step, their weights by one square root and one division of eight floats, added four at a
@@ -203,13 +245,19 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
     }
     a_ = std::move(a);
     rho_ = std::move(r);
-    if (a_.size() <= kDirectSources) {
-        x_.reserve(a_.size());
-        y_.reserve(a_.size());
-        for (const Vec2& v : a_) {
-            x_.push_back(v.x);
-            y_.push_back(v.y);
-        }
+    x_.reserve(a_.size() + 3);
+    y_.reserve(a_.size() + 3);
+    for (const Vec2& v : a_) {
+        x_.push_back(v.x);
+        y_.push_back(v.y);
+    }
+    // Three more entries: the cells' near sums read whole steps of four past a range's end
+    // (the lanes past it masked).
+    rho_pad_ = rho_;
+    for (int k = 0; k < 3; ++k) {
+        x_.push_back(0.0);
+        y_.push_back(0.0);
+        rho_pad_.push_back(0.0);
     }
     nodes_.reserve(tree.nodes.size());
     for (const detail::KdNode& k : tree.nodes) {
@@ -235,8 +283,8 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
         }
         nodes_.push_back(n);
     }
-    if (a_.size() > kCellSources && a_.size() <= kCellMaxSources) {
-        // The root: the sources' box, every source near it.
+    if (a_.size() > kCellSources) {
+        // The root: the sources' box, every source near it (the tree's root node).
         Vec2 lo = a_.front(), hi = a_.front();
         for (const Vec2& v : a_) {
             lo = {std::fmin(lo.x, v.x), std::fmin(lo.y, v.y)};
@@ -246,20 +294,16 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
         root.centre = 0.5 * (lo + hi);
         root.half = 0.5 * std::fmax(hi.x - lo.x, hi.y - lo.y) * (1.0 + 1e-9);
         if (!(root.half > 0.0)) root.half = std::fmax(1e-300, std::fabs(root.centre.x) + std::fabs(root.centre.y));
-        for (size_t i = 0; i < a_.size(); ++i) {
-            near_x_.push_back(a_[i].x);
-            near_y_.push_back(a_[i].y);
-            near_rho_.push_back(rho_[i]);
-        }
+        near_nodes_.push_back(0);
         root.near_begin = 0;
-        root.near_end = static_cast<std::uint32_t>(a_.size());
+        root.near_end = 1;
         root.leaf = false;
         cells_.push_back(root);
     }
 }
 
 double InverseDistanceField::direct(Vec2 p) const {
-    const size_t n = x_.size();
+    const size_t n = a_.size();
     const double* x = x_.data();
     const double* y = y_.data();
     const double* r = rho_.data();
@@ -315,34 +359,44 @@ void InverseDistanceField::add_far(Cell& cell, double x, double y, double rho) c
 
 std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadrant) const {
     Cell c{};
+    std::uint32_t from, to;
     {
         const Cell& p = cells_[parent];
         c.half = 0.5 * p.half;
         c.centre = {p.centre.x + ((quadrant & 1) ? c.half : -c.half), p.centre.y + ((quadrant & 2) ? c.half : -c.half)};
         move_cubic(p.num, c.centre.x - p.centre.x, c.centre.y - p.centre.y, c.num);
         move_cubic(p.den, c.centre.x - p.centre.x, c.centre.y - p.centre.y, c.den);
-        c.near_begin = p.near_begin;  // the parent's range, read below
-        c.near_end = p.near_end;
+        from = p.near_begin;
+        to = p.near_end;
     }
-    // Far: at least the half-diagonal / phi from the centre, so that |P - C| / R <= phi.
+    // Far: at least the half-diagonal / phi from the centre, so that |P - C| / R <= phi. The
+    // parent's near nodes whole: all far, all near (kept), or opened (a leaf that straddles
+    // stays near: summing a source term by term is never wrong).
     const double far = c.half * std::numbers::sqrt2 / phi_;
-    const double far2 = far * far;
-    const std::uint32_t from = c.near_begin, to = c.near_end;
-    c.near_begin = static_cast<std::uint32_t>(near_x_.size());
-    for (std::uint32_t i = from; i < to; ++i) {
-        const double x = near_x_[i], y = near_y_[i], rho = near_rho_[i];
-        const double dx = x - c.centre.x, dy = y - c.centre.y;
-        if (dx * dx + dy * dy >= far2) {
-            add_far(c, x, y, rho);
-        } else {
-            near_x_.push_back(x);
-            near_y_.push_back(y);
-            near_rho_.push_back(rho);
+    c.near_begin = static_cast<std::uint32_t>(near_nodes_.size());
+    size_t count = 0;
+    std::vector<std::uint32_t>& open = open_;
+    for (std::uint32_t k = from; k < to; ++k) {
+        open.assign(1, near_nodes_[k]);
+        while (!open.empty()) {
+            const std::uint32_t id = open.back();
+            open.pop_back();
+            const Node& n = nodes_[id];
+            const double d = distance(c.centre, n.c);
+            if (d - n.r >= far) {
+                for (std::uint32_t i = n.begin; i < n.end; ++i) add_far(c, x_[i], y_[i], rho_[i]);
+            } else if (d + n.r < far || n.left == 0) {
+                near_nodes_.push_back(id);
+                count += n.end - n.begin;
+            } else {
+                open.push_back(n.right);
+                open.push_back(n.left);
+            }
         }
     }
-    c.near_end = static_cast<std::uint32_t>(near_x_.size());
+    c.near_end = static_cast<std::uint32_t>(near_nodes_.size());
     // Sources that coincide cannot be parted: past 2^-40 of the root's width a cell is a leaf.
-    c.leaf = c.near_end - c.near_begin <= kCellNearSources || c.half < cells_[0].half * 0x1p-40;
+    c.leaf = count <= kCellNearSources || c.half < cells_[0].half * 0x1p-40;
     const auto id = static_cast<std::uint32_t>(cells_.size());
     cells_.push_back(c);
     cells_[parent].child[quadrant] = id;
@@ -366,26 +420,26 @@ double InverseDistanceField::through_cells(Vec2 p) const {
     const Cell& c = cells_[k];
     const double dx = p.x - c.centre.x, dy = p.y - c.centre.y;
     double num = cubic(c.num, dx, dy), den = cubic(c.den, dx, dy);
-    const double* x = near_x_.data() + c.near_begin;
-    const double* y = near_y_.data() + c.near_begin;
-    const double* r = near_rho_.data() + c.near_begin;
-    const size_t n = c.near_end - c.near_begin;
-    size_t i = 0;
 #if defined(__SSE2__)
-    double near_num = 0.0, near_den = 0.0;
-    if (sum_by_fours(x, y, r, n, p, near_num, near_den)) {
-        num += near_num;
-        den += near_den;
-        i = n & ~size_t{3};
+    NearSums near;
+    for (std::uint32_t j = c.near_begin; j < c.near_end; ++j) {
+        const Node& n = nodes_[near_nodes_[j]];
+        near.add(x_.data(), y_.data(), rho_pad_.data(), n.begin, n.end, p);
     }
+    double near_num, near_den;
+    if (near.sums(near_num, near_den)) return (num + near_num) / (den + near_den);
 #endif
-    for (; i < n; ++i) {
-        const double ex = p.x - x[i], ey = p.y - y[i];
-        const double d2 = ex * ex + ey * ey;
-        if (d2 == 0.0) return r[i];
-        const double w = 1.0 / std::sqrt(d2);
-        den += w;
-        num += r[i] * w;
+    // In double, one term at a time (p on a source, or without SSE2).
+    for (std::uint32_t j = c.near_begin; j < c.near_end; ++j) {
+        const Node& n = nodes_[near_nodes_[j]];
+        for (std::uint32_t i = n.begin; i < n.end; ++i) {
+            const double ex = p.x - x_[i], ey = p.y - y_[i];
+            const double d2 = ex * ex + ey * ey;
+            if (d2 == 0.0) return rho_[i];
+            const double w = 1.0 / std::sqrt(d2);
+            den += w;
+            num += rho_[i] * w;
+        }
     }
     return num / den;
 }

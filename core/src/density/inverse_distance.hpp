@@ -18,14 +18,16 @@
 /// candidates, the quality figures, the points' target sizes), each with every source. So
 /// queries go through cells of a quadtree built as they come: a cell keeps the sum over the
 /// sources far from it (at least 1/phi of its half-diagonal from its centre) as a cubic
-/// polynomial about its centre, and the near ones as a list, summed term by term. 1/|P - A|
+/// polynomial about its centre, and the near ones as a list of nodes of the treecode's k-d
+/// tree (each a range of the sources), summed term by term. 1/|P - A|
 /// expanded about the centre C in Legendre polynomials, sum_l (-1)^l t^l P_l(cos g) / R with
 /// R = |C - A| and t = |P - C| / R <= phi, leaves after the cubic term at most
 /// t^4 / ((1 - t) R), so each far term is within delta = phi^4 (1 + phi) / (1 - phi) of its
 /// value, and the ratio within 2 delta / (1 - delta) as above. A cell is split (its children
 /// made on first use) while it has more than kCellNearSources near sources; a child takes its
 /// parent's polynomial moved to its own centre plus those of its parent's near sources that
-/// are far from it, so making one costs its parent's near list, not every source.
+/// are far from it (its nodes whole: all far, all near, or opened), so making one costs its
+/// parent's near list, not every source, and a cell keeps node numbers, not sources.
 
 #include <cstdint>
 #include <vector>
@@ -41,13 +43,9 @@ namespace meshd::core {
 /// 2026-12-03): they meet near 9,000. (On a processor without AVX the sum costs 1.28 ns per
 /// source, and the treecode would be the faster from about 3,500.)
 inline constexpr size_t kDirectSources = 8192;
-/// Above this many sources and up to kCellMaxSources queries go through the cells (Fig. 9's
-/// 378 sources: the sum cost 0.2 us a query); below, the term-by-term sum.
+/// Above this many sources queries go through the cells (Fig. 9's 378 sources: the sum cost
+/// 0.2 us a query); up to it, the term-by-term sum.
 inline constexpr size_t kCellSources = 64;
-/// Each cell keeps its own copy of its near sources, and a source is near some 75 cells of
-/// each level it is split at: about 14 KB a source once the plane is queried all over (56 MB
-/// at 4,000 sources, 220 MB at 16,000). Above this many the field is summed() instead.
-inline constexpr size_t kCellMaxSources = 1024;
 /// A cell with more near sources than this is split.
 inline constexpr size_t kCellNearSources = 48;
 
@@ -65,8 +63,8 @@ public:
                          double tolerance = 1e-3);
 
     /// rho at p: summed term by term up to kCellSources sources (the weights 1/d_i in single
-    /// precision, the sums in double: within 4e-7 of the exact value), through the cells up
-    /// to kCellMaxSources (within the tolerance and 4e-7), else summed(). The cells are made
+    /// precision, the sums in double: within 4e-7 of the exact value), else through the cells
+    /// (within the tolerance and 4e-7; summed() outside the sources' box). The cells are made
     /// as queries come: one thread at a time.
     double operator()(Vec2 p) const;
     /// The term-by-term sum whatever the number of sources (for tests and benchmarks; it
@@ -95,7 +93,7 @@ private:
         Vec2 centre;
         double half;  // half its width
         double num[4][4], den[4][4];
-        std::uint32_t near_begin, near_end;  // into near_x_, near_y_, near_rho_
+        std::uint32_t near_begin, near_end;  // into near_nodes_: k-d tree nodes, each a range of sources
         std::uint32_t child[4];              // 0: not made yet
         bool leaf;
     };
@@ -105,12 +103,14 @@ private:
 
     std::vector<Vec2> a_;
     std::vector<double> rho_;
-    std::vector<double> x_, y_;  // a_ split, for direct(): only up to kDirectSources
+    std::vector<double> x_, y_;  // a_ split, for direct() and the cells' near sums, 3 padding entries
+    std::vector<double> rho_pad_;  // rho_ and the same padding
     std::vector<Node> nodes_;
     double theta_;  // the opening angle that keeps the relative error within the tolerance
     double phi_;    // the cells' (far: at least half-diagonal / phi from the centre)
     mutable std::vector<Cell> cells_;  // [0]: the root, over the sources' box
-    mutable std::vector<double> near_x_, near_y_, near_rho_;
+    mutable std::vector<std::uint32_t> near_nodes_;
+    mutable std::vector<std::uint32_t> open_;  // make_child's stack
     mutable std::uint32_t last_leaf_ = 0;  // the last query's cell (queries come in runs)
 };
 
