@@ -265,6 +265,27 @@ std::pair<std::vector<Vec2>, std::vector<double>> random_sources(size_t n, std::
     }
     return {a, len};
 }
+
+// The paper's Fig. 9 setting (with naca_in_circle): NACA 0012 in a far field, boundary
+// densities per loop, eq. 6.1 inside.
+DensitySpec fig9_density() {
+    DensitySpec spec;
+    spec.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
+                   {"wing", std::string("0.05*sqrt((x+0.01)^2+y^2)")}};
+    spec.min = 1e-3;
+    return spec;
+}
+
+// eq. 6.1's sources of a boundary: each segment's start and length.
+std::pair<std::vector<Vec2>, std::vector<double>> sources_of(const Discretisation& disc) {
+    std::vector<Vec2> starts;
+    std::vector<double> lengths;
+    for (const auto& s : disc.segments) {
+        starts.push_back(disc.point(s.a));
+        lengths.push_back(distance(disc.point(s.a), disc.point(s.b)));
+    }
+    return {starts, lengths};
+}
 }  // namespace
 
 // Up to kDirectSources the sum is the formula summed in another order: equal to the
@@ -329,10 +350,7 @@ TEST(InverseDistance, WideAndNarrowSumsAgreeToTheBit) {
     }
     // A whole mesh with eq. 6.1 inside (the paper's Fig. 9 setting).
     const Domain d = build_domain(naca_in_circle("0012", 20.0));
-    DensitySpec spec;
-    spec.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
-                   {"wing", std::string("0.05*sqrt((x+0.01)^2+y^2)")}};
-    spec.min = 1e-3;
+    const DensitySpec spec = fig9_density();
     detail::wide_sums(false);
     const Mesh narrow = generate_mesh(d, spec).mesh;
     detail::wide_sums(true);
@@ -347,19 +365,11 @@ TEST(InverseDistance, WideAndNarrowSumsAgreeToTheBit) {
 TEST(InverseDistance, TreecodeMeetsItsBoundAgainstTheExactFormula) {
     // The paper's Fig. 9 setting: NACA 0012 in a far field, boundary densities per loop.
     const Domain d = build_domain(naca_in_circle("0012", 20.0));
-    DensitySpec spec;
-    spec.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
-                   {"wing", std::string("0.05*sqrt((x+0.01)^2+y^2)")}};
-    spec.min = 1e-3;
+    const DensitySpec spec = fig9_density();
     SizeField f(spec, d);
     ASSERT_TRUE(f.interpolates());
     const Discretisation disc = discretise_boundary(d, f);
-    std::vector<Vec2> starts;
-    std::vector<double> lengths;
-    for (const auto& s : disc.segments) {
-        starts.push_back(disc.point(s.a));
-        lengths.push_back(distance(disc.point(s.a), disc.point(s.b)));
-    }
+    const auto [starts, lengths] = sources_of(disc);
     for (double tol : {1e-2, 1e-3, 1e-4}) {
         InverseDistanceField field(starts, lengths, tol);
         std::mt19937_64 rng(7);
@@ -397,18 +407,10 @@ TEST(InverseDistance, TreecodeMeetsItsBoundAgainstTheExactFormula) {
 // from the far sources' cubic polynomials alone, so it falls with the tolerance.
 TEST(InverseDistance, CellsMeetTheirBoundAgainstTheExactFormula) {
     const Domain d = build_domain(naca_in_circle("0012", 20.0));
-    DensitySpec spec;
-    spec.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
-                   {"wing", std::string("0.05*sqrt((x+0.01)^2+y^2)")}};
-    spec.min = 1e-3;
+    const DensitySpec spec = fig9_density();
     SizeField f(spec, d);
     const Discretisation disc = discretise_boundary(d, f);
-    std::vector<Vec2> fig9;
-    std::vector<double> fig9_lengths;
-    for (const auto& s : disc.segments) {
-        fig9.push_back(disc.point(s.a));
-        fig9_lengths.push_back(distance(disc.point(s.a), disc.point(s.b)));
-    }
+    const auto [fig9, fig9_lengths] = sources_of(disc);
     ASSERT_GT(fig9.size(), kCellSources);
     std::mt19937_64 rng(5);
     std::uniform_real_distribution<double> u(0.0, 1.0);

@@ -65,49 +65,11 @@ void move_cubic(const double (&a)[4][4], double dx, double dy, double (&out)[4][
 }
 
 #if defined(__SSE2__)
-// Four sources per step: the squared distances (in double) become floats, whose square root
-// and reciprocal take a quarter of the divider's time the doubles' take (the sum is bound by
-// it); each weight 1/d is then within 3 float roundings (2e-7) of its exact value, so the
-// ratio is within 4e-7, and the sums stay double. Sums the sources [0, 4 floor(n / 4));
-// false when a squared distance left the floats' normal range (a query on a source, or
-// absurdly far): the caller then sums in double.
-bool sum_by_fours_sse2(const double* x, const double* y, const double* r, size_t n, Vec2 p, double& num,
-                       double& den) {
-    const __m128d px = _mm_set1_pd(p.x), py = _mm_set1_pd(p.y);
-    const __m128 one = _mm_set1_ps(1.0f), low = _mm_set1_ps(std::numeric_limits<float>::min()),
-                 high = _mm_set1_ps(std::numeric_limits<float>::max());
-    __m128d num0 = _mm_setzero_pd(), den0 = _mm_setzero_pd(), num1 = _mm_setzero_pd(), den1 = _mm_setzero_pd();
-    __m128 out = _mm_setzero_ps();
-    for (size_t i = 0; i + 4 <= n; i += 4) {
-        const __m128d dx0 = _mm_sub_pd(px, _mm_loadu_pd(x + i)), dy0 = _mm_sub_pd(py, _mm_loadu_pd(y + i));
-        const __m128d dx1 = _mm_sub_pd(px, _mm_loadu_pd(x + i + 2)), dy1 = _mm_sub_pd(py, _mm_loadu_pd(y + i + 2));
-        const __m128d d0 = _mm_add_pd(_mm_mul_pd(dx0, dx0), _mm_mul_pd(dy0, dy0));
-        const __m128d d1 = _mm_add_pd(_mm_mul_pd(dx1, dx1), _mm_mul_pd(dy1, dy1));
-        const __m128 d = _mm_movelh_ps(_mm_cvtpd_ps(d0), _mm_cvtpd_ps(d1));
-        out = _mm_or_ps(out, _mm_or_ps(_mm_cmplt_ps(d, low), _mm_cmpgt_ps(d, high)));
-        const __m128 w = _mm_div_ps(one, _mm_sqrt_ps(d));
-        const __m128d w0 = _mm_cvtps_pd(w), w1 = _mm_cvtps_pd(_mm_movehl_ps(w, w));
-        den0 = _mm_add_pd(den0, w0);
-        den1 = _mm_add_pd(den1, w1);
-        num0 = _mm_add_pd(num0, _mm_mul_pd(_mm_loadu_pd(r + i), w0));
-        num1 = _mm_add_pd(num1, _mm_mul_pd(_mm_loadu_pd(r + i + 2), w1));
-    }
-    if (_mm_movemask_ps(out) != 0) return false;
-    alignas(16) double lanes[2];
-    _mm_store_pd(lanes, _mm_add_pd(num0, num1));
-    num = lanes[0] + lanes[1];
-    _mm_store_pd(lanes, _mm_add_pd(den0, den1));
-    den = lanes[0] + lanes[1];
-    return true;
-}
-#endif
-
-// The cells' near sums: the weights of sources [b, e) at p added to two pairs of lanes, four
-// sources a step as in sum_by_fours_sse2, the last step's lanes past e masked to zero (the
-// arrays hold three entries past the last source). One code for every processor: a cell sums
-// a few short ranges, where a call per range and the scalar tails cost more than the width.
-// False when a squared distance left the floats' normal range.
-#if defined(__SSE2__)
+// Sums of the weights of sources [b, e) at p in two pairs of lanes, four sources a step, the
+// last step's lanes past e masked to zero (the cells' near sums: the arrays hold three entries
+// past the last source; one code for every processor, as a cell sums a few short ranges,
+// where a call per range and scalar tails cost more than the width). sums() is false when a
+// squared distance left the floats' normal range.
 struct NearSums {
     __m128d num0 = _mm_setzero_pd(), den0 = _mm_setzero_pd(), num1 = _mm_setzero_pd(), den1 = _mm_setzero_pd();
     __m128 out = _mm_setzero_ps();
@@ -142,7 +104,21 @@ struct NearSums {
         return true;
     }
 };
+
+// Four sources per step: the squared distances (in double) become floats, whose square root
+// and reciprocal take a quarter of the divider's time the doubles' take (the sum is bound by
+// it); each weight 1/d is then within 3 float roundings (2e-7) of its exact value, so the
+// ratio is within 4e-7, and the sums stay double. Sums the sources [0, 4 floor(n / 4));
+// false when a squared distance left the floats' normal range (a query on a source, or
+// absurdly far): the caller then sums in double.
+bool sum_by_fours_sse2(const double* x, const double* y, const double* r, size_t n, Vec2 p, double& num,
+                       double& den) {
+    NearSums s;
+    s.add(x, y, r, 0, n & ~size_t{3}, p);
+    return s.sums(num, den);
+}
 #endif
+
 
 #if defined(MESHD_AVX_SUM)
 // sum_by_fours_sse2 on 256-bit registers where the processor has them (AVX): eight sources a
