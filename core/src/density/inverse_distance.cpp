@@ -64,6 +64,21 @@ void move_cubic(const double (&a)[4][4], double dx, double dy, double (&out)[4][
         for (int l = 4 - k; l < 4; ++l) out[k][l] = 0.0;
 }
 
+// Adds the terms of sources [b, e) at p in double, one at a time; the source's value when p is
+// one of them (the formula's limit there), else null.
+const double* add_terms(const double* x, const double* y, const double* r, size_t b, size_t e, Vec2 p, double& num,
+                        double& den) {
+    for (size_t i = b; i < e; ++i) {
+        const double dx = p.x - x[i], dy = p.y - y[i];
+        const double d2 = dx * dx + dy * dy;
+        if (d2 == 0.0) return r + i;
+        const double w = 1.0 / std::sqrt(d2);
+        den += w;
+        num += r[i] * w;
+    }
+    return nullptr;
+}
+
 #if defined(__SSE2__)
 // Sums of the weights of sources [b, e) at p in two pairs of lanes, four sources a step, the
 // last step's lanes past e masked to zero (the cells' near sums: the arrays hold three entries
@@ -229,11 +244,10 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
     }
     // Three more entries: the cells' near sums read whole steps of four past a range's end
     // (the lanes past it masked).
-    rho_pad_ = rho_;
     for (int k = 0; k < 3; ++k) {
         x_.push_back(0.0);
         y_.push_back(0.0);
-        rho_pad_.push_back(0.0);
+        rho_.push_back(0.0);
     }
     nodes_.reserve(tree.nodes.size());
     for (const detail::KdNode& k : tree.nodes) {
@@ -289,14 +303,7 @@ double InverseDistanceField::direct(Vec2 p) const {
     if (!sum_by_fours(x, y, r, n, p, num, den)) return exact(p);
     i = n & ~size_t{3};
 #endif
-    for (; i < n; ++i) {
-        const double dx = p.x - x[i], dy = p.y - y[i];
-        const double d2 = dx * dx + dy * dy;
-        if (d2 == 0.0) return r[i];
-        const double w = 1.0 / std::sqrt(d2);
-        den += w;
-        num += r[i] * w;
-    }
+    if (const double* at = add_terms(x, y, r, i, n, p, num, den)) return *at;
     return num / den;
 }
 
@@ -400,7 +407,7 @@ double InverseDistanceField::through_cells(Vec2 p) const {
     NearSums near;
     for (std::uint32_t j = c.near_begin; j < c.near_end; ++j) {
         const Node& n = nodes_[near_nodes_[j]];
-        near.add(x_.data(), y_.data(), rho_pad_.data(), n.begin, n.end, p);
+        near.add(x_.data(), y_.data(), rho_.data(), n.begin, n.end, p);
     }
     double near_num, near_den;
     if (near.sums(near_num, near_den)) return (num + near_num) / (den + near_den);
@@ -408,14 +415,7 @@ double InverseDistanceField::through_cells(Vec2 p) const {
     // In double, one term at a time (p on a source, or without SSE2).
     for (std::uint32_t j = c.near_begin; j < c.near_end; ++j) {
         const Node& n = nodes_[near_nodes_[j]];
-        for (std::uint32_t i = n.begin; i < n.end; ++i) {
-            const double ex = p.x - x_[i], ey = p.y - y_[i];
-            const double d2 = ex * ex + ey * ey;
-            if (d2 == 0.0) return rho_[i];
-            const double w = 1.0 / std::sqrt(d2);
-            den += w;
-            num += rho_[i] * w;
-        }
+        if (const double* at = add_terms(x_.data(), y_.data(), rho_.data(), n.begin, n.end, p, num, den)) return *at;
     }
     return num / den;
 }

@@ -103,8 +103,9 @@ private:
 
     std::vector<Vec2> a_;
     std::vector<double> rho_;
-    std::vector<double> x_, y_;  // a_ split, for direct() and the cells' near sums, 3 padding entries
-    std::vector<double> rho_pad_;  // rho_ and the same padding
+    std::vector<double> x_, y_;  // a_ split, for direct() and the cells' near sums
+    // x_, y_ and rho_ hold three zeros past the last source: the cells' near sums read whole
+    // steps of four past a range's end.
     std::vector<Node> nodes_;
     double theta_;  // the opening angle that keeps the relative error within the tolerance
     double phi_;    // the cells' (far: at least half-diagonal / phi from the centre)
