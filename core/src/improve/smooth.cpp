@@ -63,14 +63,17 @@ const double kSlideCot = 1.0 / std::tan(kSlideAngle * std::numbers::pi / 180.0);
 // smoothing ten times slower for nothing).
 const double kFloorCot = 1.0 / std::tan(15.0 * std::numbers::pi / 180.0);
 
-// Smallest angle of a counter-clockwise triangle, in radians; -1 when it is not
-// counter-clockwise.
-double min_angle(Vec2 a, Vec2 b, Vec2 c) {
+// A score of the smallest angle theta of a triangle that rises with it: 1 / (1 + cot theta),
+// that is A / (A + d) with A twice the area and d the dot product of the smallest angle's
+// sides (the largest of the three, as the smallest angle has the largest cotangent). It is in
+// (0, 0.634] for a counter-clockwise triangle, whose smallest angle is at most 60 degrees, and
+// -1 for any other. The repair only compares smallest angles, so this serves where the angle
+// itself took two arc tangents a triangle (5% of a small request's time).
+double angle_score(Vec2 a, Vec2 b, Vec2 c) {
     if (orient2d(a, b, c) != Orientation::Left) return -1.0;
     const double area2 = cross(b - a, c - a);
-    const double angle_a = std::atan2(area2, dot(b - a, c - a));
-    const double angle_b = std::atan2(area2, dot(c - b, a - b));
-    return std::min({angle_a, angle_b, std::numbers::pi - angle_a - angle_b});
+    const double d = std::max({dot(b - a, c - a), dot(c - b, a - b), dot(a - c, b - c)});
+    return area2 / (area2 + d);
 }
 
 // The guard's measure of shape: the mean ratio 4 sqrt(3) A / (la^2 + lb^2 + lc^2), 1 for an
@@ -296,7 +299,7 @@ private:
             }
         }
         if (ends == 0 || !(lo < t0 && t0 < hi) || !std::isfinite(lo) || !std::isfinite(hi)) return false;
-        const double start = star_min_angle();
+        const double start = star_score();
         const Vec2 old = pts_[v];
         double best = start, t = t0, h = 0.25 * std::min(t0 - lo, hi - t0);
         for (int iter = 0; iter < 40 && h > 1e-4 * (hi - lo); ++iter) {
@@ -305,7 +308,7 @@ private:
                 const double s = t + d;
                 if (s <= lo || s >= hi) continue;
                 pts_[v] = g.point(s);
-                const double f = star_min_angle();
+                const double f = star_score();
                 if (f > best) {
                     best = f;
                     best_t = s;
@@ -368,11 +371,11 @@ private:
             for (size_t k = 0; k < nfree; ++k) old[k] = pts_[free[k]];
             auto region_min = [&] {
                 const Triangle &A = m_.triangles[t], &B = m_.triangles[u];
-                double worst = std::min(min_angle(pts_[A.v[0]], pts_[A.v[1]], pts_[A.v[2]]),
-                                        min_angle(pts_[B.v[0]], pts_[B.v[1]], pts_[B.v[2]]));
+                double worst = std::min(angle_score(pts_[A.v[0]], pts_[A.v[1]], pts_[A.v[2]]),
+                                        angle_score(pts_[B.v[0]], pts_[B.v[1]], pts_[B.v[2]]));
                 for (size_t k = 0; k < nfree; ++k) {
                     if (!walk_star(free[k])) return -1.0;
-                    worst = std::min(worst, star_min_angle());
+                    worst = std::min(worst, star_score());
                 }
                 return worst;
             };
@@ -458,12 +461,12 @@ private:
         return false;
     }
 
-    // The smallest angle in star_ (radians), -1 when a triangle is inverted.
-    double star_min_angle() const {
-        double worst = std::numbers::pi;
+    // The score (angle_score) of the smallest angle in star_, -1 when a triangle is inverted.
+    double star_score() const {
+        double worst = 1.0;
         for (const TriangleId t : star_) {
             const Triangle& T = m_.triangles[t];
-            worst = std::min(worst, min_angle(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]));
+            worst = std::min(worst, angle_score(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]));
             if (worst < 0.0) break;
         }
         return worst;
@@ -479,7 +482,7 @@ private:
             const Triangle& T = m_.triangles[t];
             shortest = std::fmin(shortest, distance(old, pts_[T.v[next3(TriangleSoup::index_of(T, v))]]));
         }
-        const double start = star_min_angle();
+        const double start = star_score();
         double best = start, h = 0.25 * shortest;
         constexpr double r = 0.5 * std::numbers::sqrt2;
         static constexpr std::array<Vec2, 8> dirs{Vec2{1, 0},  Vec2{r, r},   Vec2{0, 1},  Vec2{-r, r},
@@ -489,7 +492,7 @@ private:
             Vec2 best_q = p;
             for (const Vec2& d : dirs) {
                 pts_[v] = p + h * d;
-                const double f = star_min_angle();
+                const double f = star_score();
                 if (f > best) {
                     best = f;
                     best_q = pts_[v];
