@@ -87,6 +87,63 @@ TEST(CellGrid, AQueryStopsAtTheFirstItemItsVisitorAccepts) {
     EXPECT_FALSE(grid.any_in(3, 5, 8, 0, 0, [](std::uint32_t) { return true; }));
 }
 
+// Items retired by a query as it passes are seen by no later box query, nor by the query
+// that retires them, and still by any_in_all; the others stay in their chains, and a query
+// that stops early retires only what it passed.
+TEST(CellGrid, RetiredItemsLeaveTheBoxQueriesAndStayForTheFullLookup) {
+    std::mt19937_64 rng(5);
+    std::uniform_int_distribution<std::int64_t> coord(-12, 12);
+    CellGrid<std::uint32_t, true> grid;
+    std::vector<Placed> all;
+    for (std::uint32_t id = 0; id < 6000; ++id) {
+        const Placed p{2, coord(rng), coord(rng), id};
+        grid.push(p.k, p.x, p.y, p.id);
+        all.push_back(p);
+    }
+    auto retire = [](std::uint32_t id) { return id % 3 == 0; };
+    auto live = [&](std::vector<std::uint32_t> ids) {
+        ids.erase(std::remove_if(ids.begin(), ids.end(), retire), ids.end());
+        return ids;
+    };
+    auto collect = [&](auto&& query) {
+        std::vector<std::uint32_t> seen;
+        query([&](std::uint32_t id) {
+            seen.push_back(id);
+            return false;
+        });
+        std::sort(seen.begin(), seen.end());
+        return seen;
+    };
+    // A query that stops at the first item it accepts retires only the items before it.
+    std::uint32_t stopped_at = 0;
+    std::vector<std::uint32_t> passed;
+    EXPECT_TRUE(grid.any_in_retiring(2, 0, 0, 0, 0, [&](std::uint32_t id) {
+        if (retire(id)) passed.push_back(id);
+        return retire(id);
+    }, [&](std::uint32_t id) {
+        stopped_at = id;
+        return true;
+    }));
+    EXPECT_FALSE(retire(stopped_at));
+    const auto cell0 = brute(all, 2, 0, 0, 0, 0);
+    const auto still = collect([&](auto v) { return grid.any_in(2, 0, 0, 0, 0, v); });
+    for (const std::uint32_t id : cell0) {
+        const bool gone = std::find(passed.begin(), passed.end(), id) != passed.end();
+        EXPECT_EQ(std::binary_search(still.begin(), still.end(), id), !gone) << id;
+    }
+    // A retiring query over everything visits exactly the live items ...
+    EXPECT_EQ(collect([&](auto v) { return grid.any_in_retiring(2, -12, 12, -12, 12, retire, v); }),
+              live(brute(all, 2, -12, 12, -12, 12)));
+    // ... and from then on every box query sees only those, and any_in_all sees all.
+    std::uniform_int_distribution<std::int64_t> width(0, 6);
+    for (int q = 0; q < 500; ++q) {
+        const std::int64_t x0 = coord(rng), y0 = coord(rng), x1 = x0 + width(rng), y1 = y0 + width(rng);
+        const auto want = brute(all, 2, x0, x1, y0, y1);
+        ASSERT_EQ(collect([&](auto v) { return grid.any_in(2, x0, x1, y0, y1, v); }), live(want));
+        ASSERT_EQ(collect([&](auto v) { return grid.any_in_all(2, x0, x1, y0, y1, v); }), want);
+    }
+}
+
 #if defined(__linux__)
 // The line of /proc/self/smaps starting with `field` for the mapping that holds address a.
 static std::string smaps_field_at(std::uintptr_t a, const std::string& field) {

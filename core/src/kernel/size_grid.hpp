@@ -15,6 +15,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "meshd/core/vec2.hpp"
@@ -27,7 +28,12 @@ namespace meshd::core::detail {
 /// chain heads, so a query over a few neighbouring cells costs one or two hash probes
 /// rather than one per cell. An item is stored in its chain entry (for the interior's
 /// points: the coordinates and size, so a proximity test reads one entry and nothing else).
-template <class Item>
+///
+/// With kRetiring, each cell has a second chain, of retired items: a query that no longer
+/// needs an item moves it there as it passes (any_in_retiring), and only lookups that ask
+/// for every item (any_in_all) walk it. The retired heads sit in the block's second cache
+/// line, which the other queries never read.
+template <class Item, bool kRetiring = false>
 class CellGrid {
 public:
     static constexpr std::uint32_t kNone = UINT32_MAX;
@@ -56,28 +62,77 @@ public:
     const Item& item(std::uint32_t entry) const { return entries_[entry].item; }
 
     /// Calls visit(item) for the items of the cells [x0, x1] x [y0, y1] of class k, block by
-    /// block, until it returns true; returns whether it did.
+    /// block, until it returns true; returns whether it did. Retired items are not visited.
     template <class Visit>
     bool any_in(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Visit&& visit) const {
+        return for_cells(*this, k, x0, x1, y0, y1, [&](const Block& blk, size_t c) {
+            for (std::uint32_t e = blk.head[c]; e != kNone; e = entries_[e].next)
+                if (visit(entries_[e].item)) return true;
+            return false;
+        });
+    }
+
+    /// any_in(), but an item for which retire(item) is true is first moved to its cell's
+    /// retired chain and not visited. retire() must stay true for an item once it is.
+    template <class Retire, class Visit>
+    bool any_in_retiring(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Retire&& retire,
+                         Visit&& visit) {
+        static_assert(kRetiring);
+        return for_cells(*this, k, x0, x1, y0, y1, [&](Block& blk, size_t c) {
+            std::uint32_t* link = &blk.head[c];
+            for (std::uint32_t e = *link; e != kNone; e = *link) {
+                Entry& entry = entries_[e];
+                if (retire(entry.item)) {
+                    *link = entry.next;
+                    entry.next = blk.retired[c];
+                    blk.retired[c] = e;
+                    continue;
+                }
+                if (visit(entry.item)) return true;
+                link = &entry.next;
+            }
+            return false;
+        });
+    }
+
+    /// any_in() over the retired items as well.
+    template <class Visit>
+    bool any_in_all(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Visit&& visit) const {
+        static_assert(kRetiring);
+        return for_cells(*this, k, x0, x1, y0, y1, [&](const Block& blk, size_t c) {
+            for (const std::uint32_t first : {blk.head[c], blk.retired[c]})
+                for (std::uint32_t e = first; e != kNone; e = entries_[e].next)
+                    if (visit(entries_[e].item)) return true;
+            return false;
+        });
+    }
+
+private:
+    struct NoChains {};
+    struct alignas(64) Block {
+        std::array<std::uint32_t, 16> head;
+        [[no_unique_address]] std::conditional_t<kRetiring, std::array<std::uint32_t, 16>, NoChains> retired;
+    };
+
+    // Calls cell(block, index within it) for the cells [x0, x1] x [y0, y1] of class k that
+    // have a block, until it returns true; returns whether it did. (Self: the grid, const or
+    // not, so that the blocks are as writable as the grid.)
+    template <class Self, class Cell>
+    static bool for_cells(Self& self, int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1,
+                          Cell&& cell) {
         for (std::int64_t bx = x0 >> 2; bx <= x1 >> 2; ++bx)
             for (std::int64_t by = y0 >> 2; by <= y1 >> 2; ++by) {
-                const std::uint32_t b = find_block(k, bx << 2, by << 2);
+                const std::uint32_t b = self.find_block(k, bx << 2, by << 2);
                 if (b == kNone) continue;
-                const Block& blk = blocks_[b];
+                auto& blk = self.blocks_[b];
                 const std::int64_t xa = std::max(x0, bx << 2), xb = std::min(x1, (bx << 2) + 3);
                 const std::int64_t ya = std::max(y0, by << 2), yb = std::min(y1, (by << 2) + 3);
                 for (std::int64_t x = xa; x <= xb; ++x)
                     for (std::int64_t y = ya; y <= yb; ++y)
-                        for (std::uint32_t e = blk.head[within(x, y)]; e != kNone; e = entries_[e].next)
-                            if (visit(entries_[e].item)) return true;
+                        if (cell(blk, within(x, y))) return true;
             }
         return false;
     }
-
-private:
-    struct alignas(64) Block {
-        std::array<std::uint32_t, 16> head;
-    };
     struct Slot {
         std::uint64_t key;
         std::uint32_t block;  // kNone: empty
@@ -112,6 +167,7 @@ private:
         }
         Block fresh;
         fresh.head.fill(kNone);
+        if constexpr (kRetiring) fresh.retired.fill(kNone);
         blocks_.push_back(fresh);
         slots_[s] = {key, static_cast<std::uint32_t>(blocks_.size() - 1)};
         return slots_[s].block;
