@@ -7,6 +7,7 @@
 #include <malloc.h>
 
 #include "meshd/core/mesher.hpp"
+#include "triangulation/triangulation.hpp"
 
 using namespace meshd::core;
 
@@ -51,5 +52,30 @@ void BM_SmallRequest(benchmark::State& state) {
     state.counters["smoothing_ms"] = sum.smoothing_ms / n;
 }
 BENCHMARK(BM_SmallRequest)->Unit(benchmark::kMillisecond);
+
+// The triangulation stage alone on the small request's points (as smoothed) and its boundary
+// edges: the constrained Delaunay triangulation of about 2,500 points that all fit in cache.
+void BM_SmallTriangulation(benchmark::State& state) {
+    DensitySpec density;
+    density.size = "0.016 + 0.01 * x";
+    const MeshResult r = generate_mesh(small_square(), density, MeshOptions{});
+    std::vector<Vec2> points;
+    for (std::uint32_t v = 0; v < r.mesh.point_count(); ++v) points.push_back(r.mesh.point(v));
+    std::vector<Constraint> constraints;
+    for (const MeshEdge& e : r.mesh.edges) constraints.push_back({e.a, e.b, !e.embedded});
+    TriangulationStats stats{};
+    for (auto _ : state) {
+        TriangulationResult t = triangulate_delaunay(points, constraints, nullptr);
+        stats = t.stats;
+        benchmark::DoNotOptimize(t.triangles.data());
+    }
+    state.counters["points"] = static_cast<double>(points.size());
+    state.counters["flips_per_point"] = static_cast<double>(stats.flips) / static_cast<double>(points.size());
+    state.counters["walk_per_point"] = static_cast<double>(stats.walk_steps) / static_cast<double>(points.size());
+    state.counters["us_per_point"] = benchmark::Counter(static_cast<double>(points.size()),
+                                                        benchmark::Counter::kIsIterationInvariantRate |
+                                                            benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_SmallTriangulation)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
