@@ -87,6 +87,28 @@ TEST(CellGrid, AQueryStopsAtTheFirstItemItsVisitorAccepts) {
     EXPECT_FALSE(grid.any_in(3, 5, 8, 0, 0, [](std::uint32_t) { return true; }));
 }
 
+// The class of a size is floor(log2(extent / size)) within [1, kMax], the maths library's
+// ilogb being the oracle, for sizes from subnormal to far above the extent.
+TEST(SizeClasses, TheClassOfASizeIsTheFloorOfTheLogOfExtentOverSize) {
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> mantissa(1.0, 2.0);
+    std::uniform_int_distribution<int> exponent(-1074, 1023);
+    for (const double extent : {1.0, 3.7e-5, 6.1e7}) {
+        const detail::SizeClasses classes(Vec2{0, 0}, extent);
+        auto want = [&](double size) { return std::clamp(std::ilogb(extent / size), 1, detail::SizeClasses::kMax); };
+        for (int i = 0; i < 20000; ++i) {
+            const double size = std::ldexp(mantissa(rng), exponent(rng));
+            ASSERT_EQ(classes.class_of(size), want(size)) << "size " << size << " extent " << extent;
+        }
+        for (const double size : {extent, extent / 2, std::nextafter(extent / 2, 0.0), extent * 0x1p-60,
+                                  extent * 0x1p-61, 4.9e-324, 1e300})
+            EXPECT_EQ(classes.class_of(size), want(size)) << size;
+        EXPECT_EQ(classes.class_of(0.0), detail::SizeClasses::kMax);
+        EXPECT_EQ(classes.class_of(-1.0), detail::SizeClasses::kMax);
+        EXPECT_EQ(classes.class_of(std::nan("")), detail::SizeClasses::kMax);
+    }
+}
+
 // Items retired by a query as it passes are seen by no later box query, nor by the query
 // that retires them, and still by any_in_all; the others stay in their chains, and a query
 // that stops early retires only what it passed.

@@ -432,17 +432,21 @@ private:
         const std::uint32_t first = offset_[v], last = offset_[v + 1];
         if (first == last) return false;
         Vec2 sum{0, 0};
-        double spokes2 = 0.0, worst_before = 1.0;
+        double spokes2 = 0.0;
         const Vec2 old = pts_[v];
         for (auto e = first; e < last; ++e) {
-            const Vec2 a = pts_[opposite_[e][0]], b = pts_[opposite_[e][1]];
+            const Vec2 a = pts_[opposite_[e][0]];
             sum += a;
             spokes2 += norm2(a - old);
-            worst_before = std::min(worst_before, shape(old, a, b));
         }
         const double k = static_cast<double>(last - first);
         const Vec2 target = sum / k;
         if (norm2(target - old) < kSettled * kSettled * spokes2 / k) return false;
+        // The star's shapes only for a move that will be tried (most visits after the first
+        // sweep end above: the point has settled).
+        double worst_before = 1.0;
+        for (auto e = first; e < last; ++e)
+            worst_before = std::min(worst_before, shape(old, pts_[opposite_[e][0]], pts_[opposite_[e][1]]));
         for (const double step : {1.0, 0.5}) {
             const Vec2 p = old + step * (target - old);
             bool ok = true;

@@ -198,7 +198,11 @@ public:
     }
     int class_of(double size) const {
         if (!(size > 0.0)) return kMax;
-        const int k = std::ilogb(extent_ / size);  // floor(log2(extent / size)), exactly
+        // floor(log2(extent / size)), exactly: the exponent of a normal double (std::ilogb,
+        // a call into the maths library, for the rest).
+        const double r = extent_ / size;
+        const auto biased = static_cast<int>((std::bit_cast<std::uint64_t>(r) >> 52) & 0x7ff);
+        const int k = biased != 0 && biased != 0x7ff ? biased - 1023 : std::ilogb(r);
         return k < 1 ? 1 : (k > kMax ? kMax : k);
     }
     double cell(int k) const { return cell_[static_cast<size_t>(k)]; }
