@@ -216,8 +216,8 @@ private:
                 const Vec2 shi{std::max(sa.x, sb.x), std::max(sa.y, sb.y)};
                 for (int i = 0; i < 2; ++i) {
                     const Edge& g = edges[i];
-                    if (!use[i] || shi.x < g.lo.x || slo.x > g.hi.x || shi.y < g.lo.y || slo.y > g.hi.y)
-                        continue;  // not this class, or the boxes do not meet
+                    if (!use[i] | (shi.x < g.lo.x) | (slo.x > g.hi.x) | (shi.y < g.lo.y) | (slo.y > g.hi.y))
+                        continue;  // not this class, or the boxes do not meet (| not ||: no branch a test)
                     if (segments_intersect(g.p, c, sa, sb)) return true;
                 }
                 return false;
