@@ -185,8 +185,8 @@ private:
     // the covered region at its start, where its end lies within reach of a covered
     // triangle's corners and (4.22), tested first, has refused it. So the crossing test
     // retires those segments from the grid's chains as it meets them (44% of the entries it
-    // visited on the load run's square); the points of every random domain and example were
-    // the same with them and without.
+    // visited on the load run's square); with them and without, every example's mesh was the
+    // same, and so were the point totals of 2,840 random domains.
     // With `c_on_front` (c is a point of the front, not a candidate), segments ending at c
     // meet AC and BC there by construction too.
     bool crosses_front(Vec2 a, Vec2 b, Vec2 c, bool c_on_front = false) {
@@ -217,7 +217,7 @@ private:
                 for (int i = 0; i < 2; ++i) {
                     const Edge& g = edges[i];
                     if (!use[i] | (shi.x < g.lo.x) | (slo.x > g.hi.x) | (shi.y < g.lo.y) | (slo.y > g.hi.y))
-                        continue;  // not this class, or the boxes do not meet (| not ||: no branch a test)
+                        continue;  // not this class, or the boxes do not meet (| rather than ||: no branch per comparison)
                     if (segments_intersect(g.p, c, sa, sb)) return true;
                 }
                 return false;
