@@ -36,11 +36,12 @@ namespace {
 // A piece holding fewer points than this is resolved: splitting it changes the count little.
 constexpr double kResolved = 0.25;
 // A cell of the plane holding less than this fraction of the interior's count so far is
-// resolved too: a small mesh is forecast from a few thousand samples, not four per point
-// (the sample budget binds long before this on large meshes). 1/1024 instead of 1/4096 moved
-// the forecast of every example by at most 1.5% of its points, and halved the samples of a
-// small request (bench/forecast_driver.cpp, docs/benchmarks.md).
-constexpr double kRelativeResolution = 1.0 / 1024.0;
+// resolved too: a small mesh is forecast from about one sample per point, not four (the
+// sample budget binds long before this on large meshes). Each of 1/4096 -> 1/1024 -> 1/256
+// moved the forecast of every example by at most 1.5% of its points and halved the samples
+// of a small request; the last took 18% off the load run's boundary stage
+// (bench/forecast_driver.cpp, docs/benchmarks.md).
+constexpr double kRelativeResolution = 1.0 / 256.0;
 
 // Where in its cell a sample sits: off the centre, so that the samples of cells on a regular
 // grid rarely fall exactly on the (often axis-aligned, round-numbered) outline.
