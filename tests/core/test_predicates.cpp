@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "kernel/constructions.hpp"
 #include "kernel/predicates.hpp"
 
 using meshd::core::orient2d;
@@ -97,4 +98,26 @@ TEST(Predicates, SegmentsIntersect) {
     EXPECT_TRUE(segments_intersect({0, 0}, {2, 2}, {1, 1}, {3, 3}));  // collinear overlap
     EXPECT_TRUE(segments_intersect({0, 0}, {2, 0}, {1, 0}, {1, 5}));  // T junction
     EXPECT_FALSE(segments_intersect({0, 0}, {2, 0}, {1, 1e-300}, {1, 5}));
+}
+
+// The side that closes a corner with a given angle at the other side's far end, checked by
+// building the triangle and measuring that angle with atan2 (law of sines: a / sin(angle) =
+// b / sin(pi - theta - angle)).
+TEST(Constructions, TheShortestSideForAnAngleMakesThatAngleAtTheOtherSidesEnd) {
+    using meshd::core::shortest_side_for_angle;
+    const double deg = std::acos(-1.0) / 180.0;
+    for (const double theta : {40.0, 75.0, 90.0, 105.0, 116.0}) {
+        for (const double angle : {20.0, 31.0, 45.0}) {
+            if (theta + angle >= 180.0) continue;
+            const double b = 2.5;
+            const double a = shortest_side_for_angle(b, theta * deg, angle * deg);
+            // The corner at the origin: side b along x, side a at theta.
+            const Vec2 far_b{b, 0.0}, far_a{a * std::cos(theta * deg), a * std::sin(theta * deg)};
+            const Vec2 u = far_a - far_b, w = Vec2{0.0, 0.0} - far_b;
+            const double at_b = std::atan2(u.x * w.y - u.y * w.x, u.x * w.x + u.y * w.y);
+            EXPECT_NEAR(std::fabs(at_b) / deg, angle, 1e-9) << theta << " " << angle;
+        }
+    }
+    // At 90 degrees and 30: a = b tan 30.
+    EXPECT_NEAR(shortest_side_for_angle(1.0, 90.0 * deg, 30.0 * deg), std::tan(30.0 * deg), 1e-12);
 }

@@ -2,6 +2,8 @@
 // Geometric constructions: points computed in doubles (inexact, unlike the predicates'
 // signs); their use is then decided by exact predicates.
 
+#include <cmath>
+
 #include "meshd/core/vec2.hpp"
 
 namespace meshd::core {
@@ -12,6 +14,12 @@ inline Vec2 circumcentre(Vec2 a, Vec2 b, Vec2 c) {
     const double d = 2.0 * cross(ab, ac);
     return a + Vec2{(ac.y * norm2(ab) - ab.y * norm2(ac)) / d,
                     (ab.x * norm2(ac) - ac.x * norm2(ab)) / d};
+}
+
+/// The shortest side that, meeting a side of length b at angle theta (0 < theta < pi - angle),
+/// leaves an angle of at least `angle` at b's far end: b sin(angle) / sin(theta + angle).
+inline double shortest_side_for_angle(double b, double theta, double angle) {
+    return b * std::sin(angle) / std::sin(theta + angle);
 }
 
 }  // namespace meshd::core

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "geometry/curve.hpp"
+#include "kernel/constructions.hpp"
 #include "kernel/crossings.hpp"
 #include "kernel/predicates.hpp"
 #include "meshd/core/errors.hpp"
@@ -32,17 +33,14 @@ constexpr double kTopSlope = 0.5;
 constexpr int kCloseTopRounds = 20;
 /// Tops of columns on bases this close along a chain (a concave corner's) may come close.
 constexpr size_t kCloseTopBases = 2;
+/// The smallest angle (degrees) a triangle of fixed points alone may close with where a column
+/// slides up an embedded line (follow_embedded_lines): the 30 the defaults promise, and a
+/// margin. Only for corners between the line and the wall of kMinClosingDeg to
+/// kMaxClosingDeg: narrower ones close below it whatever their sides, and the interior front
+/// places a point in wider ones.
+constexpr double kClosingAngleDeg = 31.0, kMinClosingDeg = 33.0, kMaxClosingDeg = 116.0;
 /// A sliding column reaches at most this share of the line it slides on.
 constexpr double kSlideShare = 0.3;
-/// On an embedded line leaving a wall, a sliding column leaves free at least this share of
-/// the longer wall segment beside the line's base: the line's free part and the outer edge
-/// beside its top (spaced like the wall, or wider on a convex one) close a triangle of fixed
-/// points alone, which needs sides alike in length (a spoke 0.7 times the circle's segments
-/// beside it, 0.3 of it taken by the column: 24.8 degrees). Only when the layers are grown for
-/// good: on the plan's first, coarse walls a spoke is often far shorter than the segments
-/// beside it, and planning without its column changed the caps and so the whole mesh (seed
-/// 123 of the random domains went from 34.1 to 28.4 degrees between two other holes).
-constexpr double kSpokeFreeShare = 1.0 / 1.5;
 /// Neighbouring tops more than this many times the field apart cap the wall below them (the
 /// ratio the curves' agreement allows between a segment and the field beside it).
 constexpr double kTopsRatio = 1.5;
@@ -82,7 +80,7 @@ struct Column {
     /// measured from the base (the curve's start or end).
     CurveId slide = kNoCurve;
     bool slide_at_start = false;
-    double keep_free = 0.0;  // of an embedded line it slides on (kSpokeFreeShare)
+    double keep_free = 0.0;  // of an embedded line it slides on (follow_embedded_lines)
     std::vector<std::uint32_t> ids;  // per level 0..n: the point's id in the cells
 };
 
@@ -435,14 +433,14 @@ private:
                 if (norm(dir) == 0.0) dir = n0;
                 c.columns.emplace_back(v, dir, stretch_for(dot(dir, n0)), spec);
             }
-            follow_embedded_lines(c, first, n0, n1, std::max(distance(prev, pt(v)), distance(pt(v), next)));
+            follow_embedded_lines(c, first, n0, n1, prev, next);
         }
     }
 
     // An embedded straight curve that leaves the wall at v (a wake line from a trailing edge):
     // the column nearest its direction (within kFanStepDeg) turns onto it and slides on it, so
     // that the layers go on along both of its sides instead of being cut back by it.
-    void follow_embedded_lines(Chain& c, size_t first, Vec2 n0, Vec2 n1, double beside) {
+    void follow_embedded_lines(Chain& c, size_t first, Vec2 n0, Vec2 n1, Vec2 prev, Vec2 next) {
         const VertexId v = c.columns[first].base;
         for (CurveId e : domain_.embedded()) {
             const auto& vs = d_.curve_vertices[e];
@@ -458,7 +456,22 @@ private:
             col.stretch = c.columns.size() - first > 1 ? 1.0 : stretch_for(std::min(dot(along, n0), dot(along, n1)));
             col.slide = e;
             col.slide_at_start = vs.front() == v;
-            col.keep_free = kSpokeFreeShare * beside;
+            // The line's free part and the outer edge beside the column's top (spaced like the
+            // wall, or wider on a convex one) close a triangle of fixed points alone: the
+            // column leaves free as much of the line as that triangle needs for
+            // kClosingAngleDeg, with the wall segment on either side at its angle to the line
+            // (at 90 degrees 0.6 of the segment, at 105 0.74: a fixed share of 2/3 made 29.2
+            // degrees at 100, seed 1446 of the random domains). Only when the layers are grown
+            // for good: on the plan's first, coarse walls a spoke is often far shorter than
+            // the segments beside it, and planning without its column changed the caps and so
+            // the whole mesh (seed 123 went from 34.1 to 28.4 degrees between two other holes).
+            col.keep_free = 0.0;
+            for (const Vec2 side : {prev, next}) {
+                const Vec2 to = side - pt(v);
+                const double theta = std::atan2(std::fabs(cross(along, to)), dot(along, to));
+                if (theta >= kMinClosingDeg * kDeg && theta <= kMaxClosingDeg * kDeg)
+                    col.keep_free = std::max(col.keep_free, shortest_side_for_angle(norm(to), theta, kClosingAngleDeg * kDeg));
+            }
         }
     }
 
