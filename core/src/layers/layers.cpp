@@ -81,6 +81,7 @@ struct Column {
     CurveId slide = kNoCurve;
     bool slide_at_start = false;
     double keep_free = 0.0;  // of an embedded line it slides on (follow_embedded_lines)
+    bool spoke = false;      // slides on an embedded line leaving the wall
     std::vector<std::uint32_t> ids;  // per level 0..n: the point's id in the cells
 };
 
@@ -181,8 +182,56 @@ private:
             for (Chain& c : chains_) spread(c);
         while (cut_crossings())  // each round checks for cancellation first
             for (Chain& c : chains_) spread(c);
-        if (final_)
+        if (final_) {
+            while (cut_short_spokes())
+                for (Chain& c : chains_) spread(c);
             for (Chain& c : chains_) split_wide_fans(c);
+        }
+    }
+
+    // A column that slid up an embedded line (follow_embedded_lines): its top T, the line's
+    // next point P and the top N of a column beside it close a triangle of fixed points alone
+    // where the corner at T lies between kMinClosingDeg and kMaxClosingDeg. Where its angle at N
+    // is below kClosingAngleDeg (N's column taller than T's, so the outer edge from T to N is
+    // longer than the wall segment keep_free reckoned with, or the line's free part made of
+    // several segments), the column loses a layer. After the cut-backs, on the final walls
+    // only, as keep_free. True when any did.
+    bool cut_short_spokes() {
+        if (observer_ && observer_->should_stop()) throw Cancelled();
+        bool any_spoke = false;
+        for (const Chain& c : chains_)
+            for (const Column& col : c.columns) any_spoke = any_spoke || (col.spoke && col.n > 0);
+        if (!any_spoke) return false;
+        const Discretisation b = make_boundary();
+        const auto angle_at = [](Vec2 corner, Vec2 p, Vec2 q) {
+            const Vec2 u = p - corner, w = q - corner;
+            return std::atan2(std::fabs(cross(u, w)), dot(u, w));
+        };
+        bool cut = false;
+        for (Chain& c : chains_) {
+            const size_t m = c.columns.size();
+            for (size_t k = 0; k < m; ++k) {
+                Column& col = c.columns[k];
+                if (!col.spoke || col.n == 0) continue;
+                const auto& line = b.curve_vertices[col.slide];
+                const auto at = std::find(line.begin(), line.end(), col.ids[static_cast<size_t>(col.n)]);
+                if (at == line.end()) continue;
+                const Vec2 T = b.point(*at), P = b.point(col.slide_at_start ? *(at + 1) : *(at - 1));
+                for (const bool before : {true, false}) {
+                    if (!c.closed && (before ? k == 0 : k + 1 == m)) continue;
+                    const Column& nb = c.columns[before ? (k + m - 1) % m : (k + 1) % m];
+                    const Vec2 N = level_point(nb, nb.n);
+                    const double corner = angle_at(T, P, N);
+                    if (corner < kMinClosingDeg * kDeg || corner > kMaxClosingDeg * kDeg) continue;
+                    if (angle_at(N, T, P) < kClosingAngleDeg * kDeg) {
+                        --col.n;
+                        cut = true;
+                        break;
+                    }
+                }
+            }
+        }
+        return cut;
     }
 
     // Neighbouring columns of a fan whose tops stand more than kTopsRatio times the field
@@ -456,6 +505,7 @@ private:
             col.stretch = c.columns.size() - first > 1 ? 1.0 : stretch_for(std::min(dot(along, n0), dot(along, n1)));
             col.slide = e;
             col.slide_at_start = vs.front() == v;
+            col.spoke = true;
             // The line's free part and the outer edge beside the column's top (spaced like the
             // wall, or wider on a convex one) close a triangle of fixed points alone: the
             // column leaves free as much of the line as that triangle needs for
