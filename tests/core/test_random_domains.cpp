@@ -383,6 +383,15 @@ TEST(RandomDomains, AWallEndingOnALineAtABluntAngleFansRoundToIt) {
     expect_thirty_degrees_with_layers({770u, 72u, 184u});
 }
 
+// A wall's end column sliding down the line the wall ends on leans along it, up to 30
+// degrees off the wall's normal, and under thick layers stands its top 2 H sin(lean / 2) from
+// the next column's: 1.4 to 1.9 times the field there, beside the line spaced at the field,
+// four triangles of 29.8 degrees at the end's top (seeds 1725, 1811 and 1680). Columns on the
+// end's base now fill that gap until the tops are about the field apart.
+TEST(RandomDomains, AWallsEndLeaningAlongItsLineGainsColumnsUntilItsTopIsTheFieldFromTheNext) {
+    expect_thirty_degrees_with_layers({1725u, 1811u, 1680u});
+}
+
 // The fans are planned on walls that are not yet final, and planning them again on the walls
 // spaced for them need not settle: a square hole's corner that every plan cut back stood a
 // fan on the final walls with tops 613 apart between wall tops 18,000 apart (seed 349). A fan

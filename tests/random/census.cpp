@@ -5,8 +5,8 @@
 //   meshd-random-census [--no-layers] FROM TO
 //       meshes seeds FROM..TO with the defaults (with their boundary layers, layers_for,
 //       unless --no-layers; seeds without curves for layers are skipped then) and prints
-//       each seed whose smallest free angle is below 30 degrees, then the count and the
-//       mean of each domain's smallest angle.
+//       each seed whose smallest free angle is below 30 degrees or whose mesh fails
+//       check_mesh, then the counts and the mean of each domain's smallest angle.
 //   meshd-random-census --picture SEED [--no-layers] [--zoom Z] [--at X Y] [--half H] [--out F]
 //       writes an SVG of the mesh around the smallest angle (or around X Y): a window of Z
 //       (default 6) times the longest edge there, or of half-width H. Layer cells blue,
@@ -60,7 +60,7 @@ std::optional<Case> case_for(std::uint64_t seed, bool layers) {
 }
 
 int census(std::uint64_t from, std::uint64_t to, bool layers) {
-    int below = 0, meshed = 0, refused = 0;
+    int below = 0, meshed = 0, refused = 0, invalid = 0;
     double sum = 0.0, points = 0.0;
     for (std::uint64_t seed = from; seed <= to; ++seed) {
         const auto c = case_for(seed, layers);
@@ -69,6 +69,10 @@ int census(std::uint64_t from, std::uint64_t to, bool layers) {
             const MeshResult r = generate_mesh(c->domain, c->rc.density, c->options);
             const auto [angle, at] = smallest_free_angle(r.mesh);
             ++meshed;
+            if (const auto broken = check_mesh(r.mesh, false); !broken.empty()) {
+                ++invalid;
+                std::printf("seed %llu: invalid: %s\n", static_cast<unsigned long long>(seed), broken.front().c_str());
+            }
             sum += angle;
             points += static_cast<double>(r.quality.points);
             if (angle < 30.0) {
@@ -86,8 +90,8 @@ int census(std::uint64_t from, std::uint64_t to, bool layers) {
             std::printf("seed %llu: refused: %s\n", static_cast<unsigned long long>(seed), e.what());
         }
     }
-    std::printf("%d of %d meshes below 30 degrees (%d refused); mean smallest angle %.3f; %.0f points\n", below, meshed,
-                refused, sum / std::max(meshed, 1), points);
+    std::printf("%d of %d meshes below 30 degrees (%d refused, %d invalid); mean smallest angle %.3f; %.0f points\n", below,
+                meshed, refused, invalid, sum / std::max(meshed, 1), points);
     return 0;
 }
 

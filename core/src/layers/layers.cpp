@@ -44,6 +44,12 @@ constexpr double kSlideShare = 0.3;
 /// Neighbouring tops more than this many times the field apart cap the wall below them (the
 /// ratio the curves' agreement allows between a segment and the field beside it).
 constexpr double kTopsRatio = 1.5;
+/// A wall's end column leaning along the line it slides on stands its top 2 H sin(lean / 2)
+/// from its neighbour's: past this many times the field there, columns on the end's base fill
+/// the gap (split_wide_fans). Below kTopsRatio: that outer-edge segment and the line beside the
+/// end's top meet at a corner of fixed points whose spacing the field sets on the line's side
+/// (seed 1680 of the random domains: 1.4 times the field, 29.7 degrees).
+constexpr double kLeaningTopsRatio = 1.25;
 /// A wall end slides along a line that meets it at a domain angle between these (degrees).
 /// From kSlideMaxDeg on, the line leaves the wall's normal by more than a fan's step, and the
 /// end turns a fan round to it instead: a lone column leaning further stands its top about
@@ -241,18 +247,28 @@ private:
     // step was three times the field beside it (seed 1234 of the random domains: 28 degrees
     // between it and the interior). Each new column reaches that segment exactly (stretched
     // up to its next level), so the outer edge keeps its line and the new cells stay where the
-    // fan's were: nothing else can be there. After the cut-backs, on the final walls only:
-    // columns this close together would hold each other to the lowest in spread().
+    // fan's were: nothing else can be there. The same between a wall's end column leaning
+    // along the line it slides on and the column beside it, past kLeaningTopsRatio: the new
+    // columns stand on the end's base and turn from the one towards the other (seeds 1725 and
+    // 1811: tops 1.9 times the field apart, 29.8 and 29.9 degrees). After the cut-backs, on the
+    // final walls only: columns this close together would hold each other to the lowest in
+    // spread().
     void split_wide_fans(Chain& c) {
         std::vector<Column> out;
         out.reserve(c.columns.size());
         for (size_t k = 0; k < c.columns.size(); ++k) {
             const Column& a = c.columns[k];
             out.push_back(a);
-            if (k + 1 == c.columns.size() || c.columns[k + 1].base != a.base) continue;
+            if (k + 1 == c.columns.size()) continue;
             const Column& b = c.columns[k + 1];
+            // A fan's neighbours, or a wall's end column leaning along the line it slides on
+            // and the column beside it: the new columns stand on the end's base.
+            const bool leans_a = !c.closed && k == 0 && a.slide != kNoCurve && !a.spoke;
+            const bool leans_b = !c.closed && k + 2 == c.columns.size() && b.slide != kNoCurve && !b.spoke;
+            if (b.base != a.base && !leans_a && !leans_b) continue;
             if (a.n == 0 || b.n == 0) continue;
-            const Vec2 base = pt(a.base), ta = level_point(a, a.n), tb = level_point(b, b.n);
+            const Column& pivot = b.base != a.base && leans_b ? b : a;
+            const Vec2 base = pt(pivot.base), ta = level_point(a, a.n), tb = level_point(b, b.n);
             double field = 0.0;
             try {
                 field = rho_.interior(0.5 * (ta + tb));
@@ -260,12 +276,12 @@ private:
                 continue;
             }
             const double gap = distance(ta, tb);
-            if (!(gap > kTopsRatio * field)) continue;
+            if (!(gap > (b.base != a.base ? kLeaningTopsRatio : kTopsRatio) * field)) continue;
             const Vec2 da = unit(ta - base), db = unit(tb - base);
             const double turn = std::atan2(cross(da, db), dot(da, db));
             const int steps = static_cast<int>(std::min(std::ceil(gap / field), 64.0));
             for (int j = 1; j < steps; ++j) {
-                Column f(a.base, unit(rotate(da, turn * j / steps)), 1.0, a.spec);
+                Column f(pivot.base, unit(rotate(da, turn * j / steps)), 1.0, pivot.spec);
                 const double across = cross(f.dir, tb - ta);
                 if (across == 0.0) continue;
                 const double reach = cross(ta - base, tb - ta) / across;  // to the segment ta tb
