@@ -74,6 +74,17 @@ void expect_thirty_degrees_with_layers(std::initializer_list<std::uint64_t> seed
     }
 }
 
+// Seeds' meshes without layers, with the defaults: valid, and no free angle below 30 degrees.
+void expect_thirty_degrees_without_layers(std::initializer_list<std::uint64_t> seeds) {
+    for (const std::uint64_t seed : seeds) {
+        const RandomCase rc = random_case(seed);
+        const MeshResult r = generate_mesh(build_domain(rc.domain), rc.density, MeshOptions{});
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+        const auto [angle, where] = smallest_free_angle(r.mesh);
+        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
+    }
+}
+
 }  // namespace
 
 TEST(RandomDomains, EveryMeshIsValidOrTheRequestIsRefusedClearly) {
@@ -242,6 +253,24 @@ TEST(RandomDomains, AFixedPointsFanGivesUpATriangleItHasNoRoomFor) {
         const auto [angle, at] = smallest_free_angle(r.mesh);
         EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << at.x << ", " << at.y << ")";
     }
+}
+
+// A spoke's foot on a circle near the circle's start point: the corner cap at the foot asks
+// for the spoke's length there, but the short arc between the two named points, 1.2 segments
+// under the cap's cone, rounds to one segment 1.9 times the spoke (seed 2539: 21.3 degrees).
+// A corner capped before and still apart is now capped lower by the ratio left over (seeds
+// 2539, 1794, 2106 and 2760: 21.3, 28.6, 26.4 and 28.0 degrees before).
+TEST(RandomDomains, ACornerStillApartAfterItsCapIsCappedLower) {
+    expect_thirty_degrees_without_layers({2539u, 1794u, 2106u, 2760u});
+}
+
+// Two neighbouring segments at a domain point that a triangle of the two alone closes: the
+// ratio of 1.5 the corner caps allowed closes a right angle at 33.7 degrees, one of 112 at
+// 27.8 (a spoke leaving a coarse circle, seed 2544). The corner is now capped where that
+// triangle would have an angle below 31 degrees at its angle (seeds 2544 and 2024: 27.8 and
+// 27.4 degrees before).
+TEST(RandomDomains, ACornerThatTwoSegmentsCloseIsSpacedForItsAngle) {
+    expect_thirty_degrees_without_layers({2544u, 2024u});
 }
 
 // An embedded line whose free end comes near a hole's layers from the side, between two of

@@ -16,6 +16,14 @@ inline Vec2 circumcentre(Vec2 a, Vec2 b, Vec2 c) {
                     (ab.x * norm2(ac) - ac.x * norm2(ab)) / d};
 }
 
+/// Where fixed points make a corner that a triangle of its two sides alone will close (no
+/// interior point fits between them: a short spoke leaving a curve, the free part of a line a
+/// layer column slid up), the mesher spaces them so that the triangle has no angle below this
+/// (degrees): the 30 the defaults promise, and a margin. Only corners of kMinClosingDeg to
+/// kMaxClosingDeg: narrower ones close below it whatever their sides, and the interior front
+/// places a point in wider ones.
+inline constexpr double kClosingAngleDeg = 31.0, kMinClosingDeg = 33.0, kMaxClosingDeg = 116.0;
+
 /// The shortest side that, meeting a side of length b at angle theta (0 < theta < pi - angle),
 /// leaves an angle of at least `angle` at b's far end: b sin(angle) / sin(theta + angle).
 inline double shortest_side_for_angle(double b, double theta, double angle) {

@@ -33,12 +33,6 @@ constexpr double kTopSlope = 0.5;
 constexpr int kCloseTopRounds = 20;
 /// Tops of columns on bases this close along a chain (a concave corner's) may come close.
 constexpr size_t kCloseTopBases = 2;
-/// The smallest angle (degrees) a triangle of fixed points alone may close with where a column
-/// slides up an embedded line (follow_embedded_lines): the 30 the defaults promise, and a
-/// margin. Only for corners between the line and the wall of kMinClosingDeg to
-/// kMaxClosingDeg: narrower ones close below it whatever their sides, and the interior front
-/// places a point in wider ones.
-constexpr double kClosingAngleDeg = 31.0, kMinClosingDeg = 33.0, kMaxClosingDeg = 116.0;
 /// A sliding column reaches at most this share of the line it slides on.
 constexpr double kSlideShare = 0.3;
 /// Neighbouring tops more than this many times the field apart cap the wall below them (the

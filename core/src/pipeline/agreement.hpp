@@ -42,11 +42,14 @@ double probe_interior(const SizeField& rho, Vec2 p);
 /// are cones growing by kAgreementCapRatio per element (the interior's by kFrontCapRatio from
 /// the boundary's points under eq. 6.1); rounds repeat while either grows, a
 /// few at most, since each changes what the other sees. Where curves meet at a domain point
-/// and their first segments differ by more than kAgreementRatio, the curves are capped at the
-/// shortest of them there too (the triangle that closes such a corner is often made of the
-/// two segments alone; at a wall with layers the outer edge repeats the wall's spacing, so
-/// walls take part, but not where one turns by more than kFanTurnDeg and the layers fan or
-/// bunch). Sources are only made where the two
+/// and their first segments differ by more than kAgreementRatio, or two neighbouring ones
+/// would close a triangle of the two alone with an angle below kClosingAngleDeg
+/// (kernel/constructions.hpp), the curves are capped at the shorter there too (the triangle
+/// that closes such a corner is often made of the two segments alone; at a wall with layers
+/// the outer edge repeats the wall's spacing, so walls take part, but not where one turns by
+/// more than kFanTurnDeg and the layers fan or bunch); a corner still apart after its cap
+/// (a short curve there rounded its count of segments down) is capped lower the next round.
+/// Sources are only made where the two
 /// disagree, so a mesh whose curves and field agree pays one probe per segment. Throws what
 /// discretise_boundary throws (too many points, Cancelled).
 ///
