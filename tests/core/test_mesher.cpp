@@ -467,3 +467,54 @@ TEST(Mesher, FuzzCandidatesFarOutsideTheDomain) {
         ASSERT_TRUE(p.x >= dom.box().lo.x && p.x <= dom.box().hi.x && p.y >= dom.box().lo.y && p.y <= dom.box().hi.y);
     }
 }
+
+namespace {
+
+// The unit square at a constant size of 0.1 with a hole [0.3, 0.7] x [y0, y1] (lines, corners
+// named H0..H3).
+DomainSpec square_with_box_hole(double y0, double y1) {
+    DomainSpec s = unit_square();
+    s.points.insert(s.points.end(), {{"H0", {0.3, y0}}, {"H1", {0.3, y1}}, {"H2", {0.7, y1}}, {"H3", {0.7, y0}}});
+    s.curves.insert(s.curves.end(), {line("h0", "H0", "H1", "hole"), line("h1", "H1", "H2", "hole"),
+                                     line("h2", "H2", "H3", "hole"), line("h3", "H3", "H0", "hole")});
+    s.loops.push_back(loop({"h0", "h1", "h2", "h3"}));
+    return s;
+}
+
+// The longest boundary edge with both ends in the box [x0, x1] x [y0, y1].
+double longest_edge_within(const Mesh& m, double x0, double x1, double y0, double y1) {
+    const auto inside = [&](Vec2 p) { return p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1; };
+    double l = 0.0;
+    for (const MeshEdge& e : m.edges)
+        if (inside(m.point(e.a)) && inside(m.point(e.b))) l = std::max(l, distance(m.point(e.a), m.point(e.b)));
+    return l;
+}
+
+}  // namespace
+
+// A hole 0.02 above the square's bottom side, everything sized 0.1: the two sides of the gap
+// face each other across the domain, and only sides spaced at about the gap's width give
+// triangles across it fair angles (20 degrees on a random domain where a hole almost touched
+// its outer polygon). The agreement caps both at the gap's width; a plate as thin as the gap
+// (its own two sides face each other across the hole, not the domain) keeps the size asked.
+TEST(Mesher, BoundariesFacingAcrossANarrowGapAreSpacedAtItsWidth) {
+    const double gap = 0.02;
+    const Domain dom = build_domain(square_with_box_hole(gap, 0.3));
+    MeshOptions off;
+    off.curve_agreement = false;
+    const MeshResult own = generate_mesh(dom, density_of("0.1"), off);
+    EXPECT_LT(own.quality.angle_min, 30.0);  // slivers across the gap (a test that can fail)
+    EXPECT_GT(longest_edge_within(own.mesh, 0.3, 0.7, -0.01, gap + 0.01), 0.08);
+
+    const MeshResult r = generate_mesh(dom, density_of("0.1"));
+    expect_valid(r.mesh, "a hole close to a side");
+    EXPECT_GE(r.quality.angle_min, 30.0);
+    // Both sides of the gap, its middle part (the caps grow away from where it is narrowest,
+    // and the placement rounds to whole segments).
+    EXPECT_LE(longest_edge_within(r.mesh, 0.35, 0.65, -0.01, gap + 0.01), 2.0 * gap);
+
+    const Domain plate = build_domain(square_with_box_hole(0.5, 0.5 + gap));
+    const MeshResult p = generate_mesh(plate, density_of("0.1"));
+    expect_valid(p.mesh, "a thin plate");
+    EXPECT_GT(longest_edge_within(p.mesh, 0.3, 0.7, 0.49, 0.51 + gap), 0.08);
+}

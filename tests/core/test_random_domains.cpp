@@ -273,6 +273,14 @@ TEST(RandomDomains, ACornerThatTwoSegmentsCloseIsSpacedForItsAngle) {
     expect_thirty_degrees_without_layers({2544u, 2024u});
 }
 
+// A square hole almost touching a side of the outer polygon: triangles across the gap had 20
+// degrees (18.7 with layers on the hole). Boundaries facing each other across a gap narrower
+// than their segments are now spaced at its width (Mesher.BoundariesFacingAcrossANarrowGap...).
+TEST(RandomDomains, AHoleAlmostTouchingTheOuterLoopIsSpacedForTheGap) {
+    expect_thirty_degrees_without_layers({2730u});
+    expect_thirty_degrees_with_layers({2730u});
+}
+
 // An embedded line whose free end comes near a hole's layers from the side, between two of
 // their columns: the columns there are cut back as for a cross of the local size at the end,
 // so the triangles at the end keep 30 degrees (seeds 67 and 72: 17.5 and 14.9 before).
