@@ -55,7 +55,6 @@ double field_beside(const SizeField& rho, Vec2 a, Vec2 b, bool embedded, Vec2 at
     return f;
 }
 
-
 // A domain point whose curves' first segments disagree: the size to cap the curves at there,
 // and by how much the segments there exceed what is asked (> 1).
 struct CornerCap {
@@ -115,7 +114,6 @@ std::vector<CornerCap> corner_caps_for(const Discretisation& d, const std::vecto
     return out;
 }
 
-
 // Two loop segments joined along their loop by less than this many times the gap between them
 // are the two sides of one sharp corner, not two boundaries facing each other.
 constexpr double kWedgeDetour = 10.0;
@@ -135,8 +133,7 @@ Vec2 nearest_on(Vec2 a, Vec2 b, Vec2 p) {
 // (the sides of one sharp corner: its tip needs no such spacing), not segments facing across
 // a hole (each must have the other on its domain side). Walls with layers too: the layers'
 // outer edge repeats their spacing across the strip the cut-backs leave in the gap.
-void cap_narrow_gaps(const Discretisation& d, std::vector<Vec2>& caps,
-                     std::vector<double>& sizes) {
+void cap_narrow_gaps(const Discretisation& d, std::vector<Vec2>& caps, std::vector<double>& sizes) {
     const size_t n = d.loop_segment_count;
     std::vector<std::uint32_t> loop_of(n);
     std::vector<double> along(n), loop_length;
