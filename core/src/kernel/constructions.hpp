@@ -24,6 +24,9 @@ inline Vec2 circumcentre(Vec2 a, Vec2 b, Vec2 c) {
 /// places a point in wider ones.
 inline constexpr double kClosingAngleDeg = 31.0, kMinClosingDeg = 33.0, kMaxClosingDeg = 116.0;
 
+/// The angle between u and w (radians, 0 to pi).
+inline double angle_between(Vec2 u, Vec2 w) { return std::atan2(std::fabs(cross(u, w)), dot(u, w)); }
+
 /// The shortest side that, meeting a side of length b at angle theta (0 < theta < pi - angle),
 /// leaves an angle of at least `angle` at b's far end: b sin(angle) / sin(theta + angle).
 inline double shortest_side_for_angle(double b, double theta, double angle) {

@@ -203,10 +203,7 @@ private:
             for (const Column& col : c.columns) any_spoke = any_spoke || (col.spoke && col.n > 0);
         if (!any_spoke) return false;
         const Discretisation b = make_boundary();
-        const auto angle_at = [](Vec2 corner, Vec2 p, Vec2 q) {
-            const Vec2 u = p - corner, w = q - corner;
-            return std::atan2(std::fabs(cross(u, w)), dot(u, w));
-        };
+        const auto angle_at = [](Vec2 corner, Vec2 p, Vec2 q) { return angle_between(p - corner, q - corner); };
         bool cut = false;
         for (Chain& c : chains_) {
             const size_t m = c.columns.size();
@@ -528,7 +525,7 @@ private:
             col.keep_free = 0.0;
             for (const Vec2 side : {prev, next}) {
                 const Vec2 to = side - pt(v);
-                const double theta = std::atan2(std::fabs(cross(along, to)), dot(along, to));
+                const double theta = angle_between(along, to);
                 if (theta >= kMinClosingDeg * kDeg && theta <= kMaxClosingDeg * kDeg)
                     col.keep_free = std::max(col.keep_free, shortest_side_for_angle(norm(to), theta, kClosingAngleDeg * kDeg));
             }
