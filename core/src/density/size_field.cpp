@@ -138,13 +138,20 @@ double SizeField::on_curve(CurveId c, Vec2 p) const {
 }
 
 double SizeField::interior(Vec2 p) const {
-    double h;
-    if (interpolate_) {
-        MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
-        h = std::fmin(std::fmax((*idw_)(p), min_), max_);
-    } else {
-        h = eval(sources_[*interior_source_], p);
-    }
+    if (!interpolate_) return interior_from(p, eval(sources_[*interior_source_], p));
+    MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
+    return interior_from(p, std::fmin(std::fmax((*idw_)(p), min_), max_));
+}
+
+double SizeField::interior_scattered(Vec2 p) const {
+    if (!interpolate_) return interior_from(p, eval(sources_[*interior_source_], p));
+    MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
+    return interior_from(p, std::fmin(std::fmax(idw_->summed(p), min_), max_));
+}
+
+// The field inside from its raw value at p (the expression's, or eq. 6.1's): the gradation
+// and the caps.
+double SizeField::interior_from(Vec2 p, double h) const {
     if (graded_) h = std::fmax(std::fmin(h, (*graded_)(p)), min_);
     if (interior_cap_) h = std::fmax(interior_cap_->capped(p, h), min_);
     if (cap_) h = std::fmax(cap_->capped(p, h), min_);

@@ -37,6 +37,10 @@ public:
 
     /// rho inside the domain. In interpolation mode set_boundary_segments() must come first.
     double interior(Vec2 p) const;
+    /// The same for a query far from the others (a probe): eq. 6.1 summed without the
+    /// query cells that interior() builds for runs of nearby queries, which a scattered
+    /// query would build for itself alone.
+    double interior_scattered(Vec2 p) const;
 
     bool interpolates() const { return interpolate_; }
     /// Sources of eq. 6.1: the start A_i of each boundary segment and its length rho_i; the
@@ -68,6 +72,7 @@ private:
         Subject subject;  // where it came from, for error messages
     };
     double eval(const Source& s, Vec2 p) const;
+    double interior_from(Vec2 p, double raw) const;
 
     std::vector<std::optional<size_t>> curve_source_;  // per curve: index into sources_
     std::vector<Source> sources_;

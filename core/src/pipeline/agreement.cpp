@@ -194,7 +194,7 @@ void cap_narrow_gaps(const Discretisation& d, std::vector<Vec2>& caps, std::vect
 
 double probe_interior(const SizeField& rho, Vec2 p) {
     try {
-        return rho.interior(p);
+        return rho.interior_scattered(p);
     } catch (const GeometryError&) {
         return NAN;
     }

@@ -188,7 +188,7 @@ double forecast_interior(const Domain& domain, const SizeField& rho, size_t budg
     double leaves = 0.0;                            // the count of the cells not split
     auto density_at = [&](Vec2 p, double& f) {
         try {
-            const double h = rho.interior(p);
+            const double h = rho.interior_scattered(p);
             f = kPointsPerArea / (h * h);
             return true;
         } catch (const GeometryError& e) {
