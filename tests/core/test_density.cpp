@@ -14,6 +14,7 @@
 
 #include "fixtures.hpp"
 #include "boundary/boundary.hpp"
+#include "density/gradation.hpp"
 #include "density/inverse_distance.hpp"
 #include "density/size_field.hpp"
 #include "meshd/core/errors.hpp"
@@ -475,4 +476,41 @@ TEST(SizeField, SizesAreCappedAtTheDomainsExtent) {
     EXPECT_DOUBLE_EQ(rho.interior({0.25, 0.5}), 0.05);
     const auto v = check_mesh(generate_mesh(dom, spec).mesh);
     for (const auto& s : v) ADD_FAILURE() << s;
+}
+
+// The gradation envelope min_i (h_i + (g - 1) |x - s_i|) capped at an upper bound, against the
+// formula summed cone by cone. The field answers a query near the last one from that search's
+// bound without searching again; the queries here come as the advancing front's do, in runs of
+// small steps (and now and then a jump), with bounds below, near and above the envelope, so
+// that both the answers without a search and the searches are checked, to the bit.
+TEST(Gradation, TheEnvelopeAnswersEveryQueryAsTheFormulaDoes) {
+    std::mt19937_64 gen(20261204);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (const double ratio : {1.25, 1.5, 3.0}) {
+        SCOPED_TRACE(ratio);
+        std::vector<Vec2> at;
+        std::vector<double> size;
+        for (int i = 0; i < 300; ++i) {
+            at.push_back({unit(gen), unit(gen)});
+            size.push_back(0.001 + 0.1 * unit(gen) * unit(gen));
+        }
+        const GradationField cap(at, size, ratio);
+        auto formula = [&](Vec2 x, double upper) {
+            double h = upper;
+            for (size_t i = 0; i < at.size(); ++i) h = std::fmin(h, size[i] + (ratio - 1.0) * distance(x, at[i]));
+            return h;
+        };
+        Vec2 x{0.5, 0.5};
+        size_t below = 0;
+        for (int q = 0; q < 20000; ++q) {
+            if (unit(gen) < 0.01) x = {1.4 * unit(gen) - 0.2, 1.4 * unit(gen) - 0.2};
+            else x = x + Vec2{0.02 * (unit(gen) - 0.5), 0.02 * (unit(gen) - 0.5)};
+            const double envelope = formula(x, HUGE_VAL);
+            const double upper = envelope * (0.2 + 1.2 * unit(gen));
+            below += upper < envelope;
+            ASSERT_EQ(cap.capped(x, upper), formula(x, upper)) << "query " << q << " at " << x.x << ", " << x.y;
+        }
+        EXPECT_GT(below, 10000u);
+        EXPECT_EQ(cap(Vec2{0.3, 0.7}), formula({0.3, 0.7}, HUGE_VAL));
+    }
 }

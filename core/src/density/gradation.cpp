@@ -28,6 +28,19 @@ GradationField::GradationField(std::vector<Vec2> sources, std::vector<double> si
 }
 
 double GradationField::capped(Vec2 x, double upper) const {
+    // Below the envelope by the last search's bound (less a margin for the rounding of the
+    // cones' sums): the answer is `upper`, to the bit.
+    const double moved = slope_ * distance(x, last_at_);
+    if (upper <= last_floor_ - moved - 1e-12 * (std::fabs(last_floor_) + moved)) return upper;
+    // Searched up to twice `upper`: the cones above that are pruned as early as those above
+    // `upper`, and the result is a bound that lasts for the next queries.
+    const double floor = search(x, 2.0 * upper);
+    last_at_ = x;
+    last_floor_ = floor;
+    return std::fmin(upper, floor);
+}
+
+double GradationField::search(Vec2 x, double upper) const {
     double best = upper;
     detail::depth_first(nodes_, [&](const Node& n) {
         // (Comparisons, not fmax: a call into the maths library each, on the interior's path.)

@@ -9,6 +9,12 @@
 /// no faster than g - 1 between samples. Queries use a k-d tree whose nodes keep their
 /// smallest h_i, pruned by h_min + (g - 1) * distance to the node's box: O(log n) on graded
 /// fields.
+///
+/// A query also leaves a lower bound of the envelope where it was made: the cones are
+/// (g - 1)-Lipschitz, so a later query nearby whose `upper` lies below that bound less the
+/// slope times the distance is answered without a search (the advancing front asks in runs
+/// along the front, mostly where the field is well below the envelope). Queries come from one
+/// thread at a time, as for the field the envelope caps.
 
 #include <cmath>
 #include <cstdint>
@@ -28,6 +34,8 @@ public:
     double capped(Vec2 x, double upper) const;
 
 private:
+    double search(Vec2 x, double upper) const;
+
     struct Node {
         Box box;
         double hmin;
@@ -37,6 +45,9 @@ private:
     std::vector<double> h_;
     std::vector<Node> nodes_;
     double slope_;
+    // The last search: where, and a lower bound of the envelope there.
+    mutable Vec2 last_at_{0.0, 0.0};
+    mutable double last_floor_ = -HUGE_VAL;
 };
 
 }  // namespace meshd::core
