@@ -14,6 +14,7 @@
 #include "density/size_field.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/mesher.hpp"
+#include "pipeline/agreement.hpp"
 #include "pipeline/estimate.hpp"
 
 using namespace meshd::core;
@@ -355,6 +356,55 @@ TEST(Mesher, AFarFieldCoarserThanEq61BesideItIsSpacedAgain) {
         EXPECT_NEAR(r.stats.forecast_points / static_cast<double>(r.mesh.point_count()), 1.0, 0.1);
         EXPECT_NEAR(own.stats.forecast_points / static_cast<double>(own.mesh.point_count()), 1.0, 0.1);
     }
+}
+
+// The agreement places the curves again each round, but a curve no new cap reaches keeps its
+// points (pipeline/agreement.cpp). Whatever it kept, the curves it ends with must be those
+// that placing every curve from scratch gives for the field it ends with, point for point.
+TEST(Mesher, TheAgreedCurvesAreThoseTheFinalFieldPlaces) {
+    struct Sample {
+        std::string name;
+        DomainSpec domain;
+        DensitySpec density;
+    };
+    std::vector<Sample> samples;
+    samples.push_back({"naca0012", naca("0012").domain, naca("0012").density});
+    {
+        DensitySpec d;
+        d.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")}, {"wall", std::string("0.002 + 0.03*sqrt(x^2+y^2)")}};
+        samples.push_back({"three elements", three_element_wing({1.01, -0.04}), d});
+    }
+    {
+        DensitySpec d;
+        d.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")}, {"wing", std::string("0.05*sqrt((x+0.01)^2+y^2)")}};
+        d.min = 0.002;
+        samples.push_back({"Fig. 9", naca_in_circle("0012", 5.0), d});
+    }
+    size_t kept = 0;
+    for (const Sample& s : samples) {
+        SCOPED_TRACE(s.name);
+        const Domain dom = build_domain(s.domain);
+        SizeField rho(s.density, dom);
+        ASSERT_TRUE(rho.interpolates());
+        Discretisation d = discretise_boundary(dom, rho);
+        set_interpolation_sources(rho, d);
+        const AgreementStats stats = agree_with_interior(dom, rho, {}, d, nullptr);
+        EXPECT_GT(stats.rounds, 0);
+        kept += stats.curves_kept;
+        const Discretisation fresh = discretise_boundary(dom, rho);
+        ASSERT_EQ(fresh.size(), d.size());
+        for (VertexId v = 0; v < d.size(); ++v) {
+            ASSERT_EQ(fresh.point(v), d.point(v)) << "point " << v;
+            ASSERT_EQ(fresh.rho[v], d.rho[v]) << "point " << v;
+            ASSERT_EQ(fresh.curve[v], d.curve[v]) << "point " << v;
+        }
+        ASSERT_EQ(fresh.segments.size(), d.segments.size());
+        for (size_t i = 0; i < d.segments.size(); ++i) {
+            EXPECT_EQ(fresh.segments[i].a, d.segments[i].a);
+            EXPECT_EQ(fresh.segments[i].b, d.segments[i].b);
+        }
+    }
+    EXPECT_GT(kept, 0u);  // the airfoils, which the far field's caps do not reach
 }
 
 // Refinement splits boundary segments whose diametral circle holds a circumcentre; on a

@@ -77,6 +77,7 @@ public:
     CurveSampler(const Domain& domain, const SizeField& rho, const BoundaryOptions& opt)
         : domain_(domain), rho_(rho), opt_(opt), domain_vertex_(domain.points().size(), kNoVertex) {
         d_.curve_vertices.resize(domain.curves().size());
+        d_.reads.resize(domain.curves().size());
         d_.end_rho.resize(domain.curves().size(), {HUGE_VAL, HUGE_VAL});
     }
 
@@ -108,12 +109,17 @@ public:
             own = make_parametrisation(g, opt_.spline_spacing);
         const CurveParametrisation* param = own ? own.get() : dc.arc_length.get();
         std::vector<VertexId>& out = d_.curve_vertices[c];
+        CurveReads& reads = d_.reads[c];
         std::vector<double> cuts{g.t_begin()};
         for (double t : g.corners()) cuts.push_back(t);
         cuts.push_back(g.t_end());
         // rho where the curve places a point at parameter t of its piece [ta, tb].
         auto size_at = [&](double ta, double tb, double t) {
-            return std::fmin(rho_.on_curve(c, g.point(t)), shape_cap(g, ta, tb, t, rho_.min_size()));
+            const Vec2 p = g.point(t);
+            const double h = rho_.on_curve(c, p);
+            reads.box.add(p);
+            reads.largest = std::fmax(reads.largest, h);
+            return std::fmin(h, shape_cap(g, ta, tb, t, rho_.min_size()));
         };
         auto end_vertex = [&](PointId p, double ta, double tb, double t, double& curve_end) {
             const VertexId v = domain_vertex(p);
@@ -133,6 +139,7 @@ public:
                     [&](double s) { return size_at(cuts[k], cuts[k + 1], param->param_at(sa + s)); },
                     rho_.min_size(), stations_left_);
                 stations_left_ -= profile.s.size();
+                reads.stations += profile.s.size();
                 std::vector<double> stations =
                     keep_shape(graded_stations(profile, opt_.max_points ? opt_.max_points : SIZE_MAX), g, *param, sa,
                                cuts[k], cuts[k + 1]);
@@ -152,6 +159,30 @@ public:
         }
         const size_t last = cuts.size() - 1;
         out.push_back(end_vertex(dc.to, cuts[last - 1], cuts[last], cuts[last], d_.end_rho[c][1]));
+    }
+
+    // Curve c's points as `from` placed them (for the same rho along c), with its end sizes
+    // and reads: what discretise(c) would make.
+    void keep(CurveId c, const Discretisation& from) {
+        const DomainCurve& dc = domain_.curves()[c];
+        const std::vector<VertexId>& was = from.curve_vertices[c];
+        std::vector<VertexId>& out = d_.curve_vertices[c];
+        auto end_vertex = [&](PointId p, double size) {
+            const VertexId v = domain_vertex(p);
+            d_.rho[v] = std::fmin(d_.rho[v], size);
+            return v;
+        };
+        if (from.reads[c].stations > stations_left_) {
+            discretise(c);  // refused, as placing it again would be
+            return;
+        }
+        d_.end_rho[c] = from.end_rho[c];
+        d_.reads[c] = from.reads[c];
+        stations_left_ -= from.reads[c].stations;
+        out.push_back(end_vertex(dc.from, from.end_rho[c][0]));
+        for (size_t i = 1; i + 1 < was.size(); ++i)
+            out.push_back(add_vertex(from.point(was[i]), c, from.param[was[i]], from.rho[was[i]]));
+        out.push_back(end_vertex(dc.to, from.end_rho[c][1]));
     }
 
     Discretisation finish() && { return std::move(d_); }
@@ -202,7 +233,7 @@ void link_loops(const Domain& domain, Discretisation& d) {
 }
 
 Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
-                                   const BoundaryOptions& options, Observer* observer) {
+                                   const BoundaryOptions& options, Observer* observer, const KeptCurves* kept) {
     CurveSampler b(domain, rho, options);
     std::vector<CurveId> order;
     for (const auto& l : domain.loops())
@@ -218,7 +249,8 @@ Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
             if (observer->should_stop()) throw Cancelled();
             observer->on_progress(Stage::Boundary, total > 0.0 ? done / total : 0.0);
         }
-        b.discretise(c);
+        if (kept && kept->keep[c]) b.keep(c, kept->from);
+        else b.discretise(c);
         done += domain.curves()[c].length;
     }
     Discretisation& d = b.result();

@@ -31,6 +31,15 @@ struct BoundarySegment {
     CurveId curve;
 };
 
+/// What placing one curve's points read of rho (SizeField::on_curve): where, the largest
+/// value, and how many stations its profiles took. A cap of rho whose cones stay at or above
+/// that value over the box leaves the curve's points as they were.
+struct CurveReads {
+    Box box;
+    double largest = 0.0;
+    size_t stations = 0;
+};
+
 struct Discretisation {
     // Points, struct of arrays.
     std::vector<double> x, y;
@@ -46,6 +55,8 @@ struct Discretisation {
     std::vector<std::array<double, 2>> end_rho;
     /// Per domain curve, its vertices from start to end (empty for unused curves).
     std::vector<std::vector<VertexId>> curve_vertices;
+    /// Per domain curve, what placing it read of rho.
+    std::vector<CurveReads> reads;
     /// Loops in Domain::loops() order, each a cycle of vertices (the first not repeated).
     std::vector<std::vector<VertexId>> loops;
     /// Embedded curves in Domain::embedded() order, as polylines.
@@ -61,11 +72,19 @@ struct Discretisation {
 /// Fills loops, embedded and segments of `d` from its curve_vertices, in the domain's order.
 void link_loops(const Domain& domain, Discretisation& d);
 
+/// Curves whose points an earlier discretisation placed for the same rho along them (a cap
+/// since that does not reach them): taken from it as they are.
+struct KeptCurves {
+    const Discretisation& from;
+    std::vector<bool> keep;  ///< per domain curve
+};
+
 /// Throws GeometryError (density invalid on a curve, too many points, the discretised
-/// polygons crossing) or Cancelled.
+/// polygons crossing) or Cancelled. The curves `kept` marks are copied from its
+/// discretisation, the same points as placing them again would give.
 Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
                                    const BoundaryOptions& options = {},
-                                   Observer* observer = nullptr);
+                                   Observer* observer = nullptr, const KeptCurves* kept = nullptr);
 
 /// The constrained Delaunay triangulation of the discretised boundary alone (no interior
 /// points), built once per mesh: the point estimate, the gradation samples and the

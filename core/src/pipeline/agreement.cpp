@@ -190,6 +190,28 @@ void cap_narrow_gaps(const Discretisation& d, std::vector<Vec2>& caps, std::vect
     });
 }
 
+// Per curve of d, whether none of the cones (points, sizes, growing by ratio per element) comes
+// below the largest size the curve read where it read one: rho along it is the same once they
+// join the curve cap, and so are its points.
+std::vector<bool> untouched_by(const Discretisation& d, const std::vector<Vec2>& points,
+                               const std::vector<double>& sizes, size_t from, double ratio) {
+    std::vector<bool> keep(d.reads.size(), false);
+    for (size_t c = 0; c < d.reads.size(); ++c) {
+        const CurveReads& r = d.reads[c];
+        if (r.box.empty()) continue;
+        keep[c] = true;
+        for (size_t i = from; i < points.size() && keep[c]; ++i) {
+            const Vec2 p = points[i];
+            const double dx = std::fmax(0.0, std::fmax(r.box.lo.x - p.x, p.x - r.box.hi.x));
+            const double dy = std::fmax(0.0, std::fmax(r.box.lo.y - p.y, p.y - r.box.hi.y));
+            // (A margin for the rounding of the cones' sums, as in GradationField.)
+            const double lowest = sizes[i] + (ratio - 1.0) * std::sqrt(dx * dx + dy * dy);
+            keep[c] = lowest - 1e-12 * lowest >= r.largest;
+        }
+    }
+    return keep;
+}
+
 }  // namespace
 
 double probe_interior(const SizeField& rho, Vec2 p) {
@@ -296,8 +318,12 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
         ++stats.rounds;
         stats.probes = caps.size() + fine.size();
         if (caps.size() > caps_before) {
+            // Curves no new cone reaches keep their points (an airfoil beside a far field the
+            // caps space again).
+            const KeptCurves kept{d, untouched_by(d, caps, cap_sizes, caps_before, kAgreementCapRatio)};
+            stats.curves_kept += static_cast<size_t>(std::count(kept.keep.begin(), kept.keep.end(), true));
             rho.set_curve_cap(caps, cap_sizes, kAgreementCapRatio);
-            d = discretise_boundary(domain, rho, options, observer);
+            d = discretise_boundary(domain, rho, options, observer, &kept);
             if (rho.interpolates()) set_interpolation_sources(rho, d);
         }
         set_interior_cap(rho, d, fine, fine_sizes);

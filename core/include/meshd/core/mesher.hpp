@@ -123,6 +123,7 @@ struct TriangulationStats {
 struct AgreementStats {
     int rounds = 0;       ///< placements of the curve points after the first
     size_t probes = 0;    ///< samples of the interior field that cap the curves
+    size_t curves_kept = 0;  ///< curves a round left where they were (no new cap reached them)
 };
 
 struct MeshStats {
