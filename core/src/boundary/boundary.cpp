@@ -249,7 +249,7 @@ Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
             if (observer->should_stop()) throw Cancelled();
             observer->on_progress(Stage::Boundary, total > 0.0 ? done / total : 0.0);
         }
-        if (kept && kept->keep[c]) b.keep(c, kept->from);
+        if (kept && c < kept->keep.size() && kept->keep[c]) b.keep(c, kept->from);
         else b.discretise(c);
         done += domain.curves()[c].length;
     }
