@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "geometry/curve.hpp"
+#include "kernel/constructions.hpp"
 #include "kernel/crossings.hpp"
 #include "kernel/tolerances.hpp"
 #include "meshd/core/errors.hpp"
@@ -22,14 +23,14 @@ double shape_cap(const Curve& g, double ta, double tb, double t, double min_size
     const double inset = 1e-9 * (tb - ta), step = 1e-4 * (tb - ta);
     const double t0 = std::fmax(t - step, ta + inset), t1 = std::fmin(t + step, tb - inset);
     const Vec2 d0 = g.derivative(t0), d1 = g.derivative(t1);
-    const double turn = std::atan2(std::fabs(cross(d0, d1)), dot(d0, d1));
+    const double turn = angle_between(d0, d1);
     if (!(turn > 0.0)) return HUGE_VAL;  // straight here
     return std::fmax(tol::kMaxSegmentTurn * distance(g.point(t0), g.point(t1)) / turn, min_size);
 }
 
 // The angle between two directions (radians, 0 for a zero vector).
 double turn_between(Vec2 a, Vec2 b) {
-    const double t = std::atan2(std::fabs(cross(a, b)), dot(a, b));
+    const double t = angle_between(a, b);
     return std::isfinite(t) ? t : 0.0;
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "kernel/constructions.hpp"
 #include "meshd/core/errors.hpp"
 #include "kernel/tolerances.hpp"
 
@@ -118,7 +119,7 @@ std::vector<double> BSplineCurve::corners() const {
             const Vec2 left = control_[i - 1] - control_[i - 2];
             const Vec2 right = control_[i] - control_[i - 1];
             if (norm(left) > 0.0 && norm(right) > 0.0) {
-                const double angle = std::atan2(std::fabs(cross(left, right)), dot(left, right));
+                const double angle = angle_between(left, right);
                 if (angle > tol::kCornerAngle) out.push_back(knots_[i]);
             }
         }
@@ -131,7 +132,7 @@ bool BSplineCurve::corner_at_ends() const {
     const Vec2 a = derivative(t_begin());
     const Vec2 b = derivative(t_end());
     if (norm(a) == 0.0 || norm(b) == 0.0) return true;
-    return std::atan2(std::fabs(cross(a, b)), dot(a, b)) > tol::kCornerAngle;
+    return angle_between(a, b) > tol::kCornerAngle;
 }
 
 double BSplineCurve::greville(size_t i) const {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "kernel/constructions.hpp"
+
 namespace meshd::core {
 
 double radius_ratio(Vec2 a, Vec2 b, Vec2 c) {
@@ -25,7 +27,7 @@ std::array<double, 3> cotangents(Vec2 a, Vec2 b, Vec2 c) {
 double angle_deg(Vec2 a, Vec2 b, Vec2 c, int k) {
     const Vec2 p[3] = {a, b, c};
     const Vec2 u = p[(k + 1) % 3] - p[k], w = p[(k + 2) % 3] - p[k];
-    return std::atan2(std::fabs(cross(u, w)), dot(u, w)) * (180.0 / std::numbers::pi);
+    return angle_between(u, w) * (180.0 / std::numbers::pi);
 }
 
 }  // namespace
