@@ -72,6 +72,12 @@ std::vector<double> keep_shape(const std::vector<double>& stations, const Curve&
     return out;
 }
 
+// Under the agreement's curve cap (a lower envelope of cones about its probes), rho along a
+// curve has a kink at every cone's apex and wherever two cones meet; the density profile would
+// bisect each down to its interpolation tolerance, some 15 samples a cone, for a precision
+// Lo's march does not need there. Its intervals stop at this fraction of the size instead.
+constexpr double kCappedStationFloor = 1.0 / 32.0;
+
 // Places the points of one curve after another, sharing the domain points at curve ends.
 class CurveSampler {
 public:
@@ -138,7 +144,7 @@ public:
                 const DensityProfile profile = sample_density(
                     len,
                     [&](double s) { return size_at(cuts[k], cuts[k + 1], param->param_at(sa + s)); },
-                    rho_.min_size(), stations_left_);
+                    rho_.min_size(), stations_left_, rho_.curve_capped() ? kCappedStationFloor : 0.0);
                 stations_left_ -= profile.s.size();
                 reads.stations += profile.s.size();
                 std::vector<double> stations =

@@ -10,7 +10,7 @@
 namespace meshd::core {
 
 DensityProfile sample_density(double length, const std::function<double(double)>& rho,
-                              double min_size, size_t max_stations) {
+                              double min_size, size_t max_stations, double floor) {
     DensityProfile out;
     // Start from a coarse uniform sampling, then refine each interval depth first.
     const int initial = 8;
@@ -29,7 +29,7 @@ DensityProfile sample_density(double length, const std::function<double(double)>
         const double hmin = std::fmin(ha, hb);
         bool split = len > 0.5 * hmin;
         double sm = 0.5 * (sa + sb), hm = 0.0;
-        if (len > floor_len && len > 1e-15 * length) {
+        if (len > floor_len && len > floor * hmin && len > 1e-15 * length) {
             hm = rho(sm);
             if (!split) split = std::fabs(hm - 0.5 * (ha + hb)) > tol::kDensityInterpolation * hmin;
         } else {

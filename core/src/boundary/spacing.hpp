@@ -28,8 +28,10 @@ struct DensityProfile {
 
 /// Samples rho on [0, length]. Throws GeometryError(TooManyPoints) beyond max_stations.
 /// rho must return finite positive values (the SizeField checks and throws otherwise).
+/// An interval shorter than `floor` times the smaller size at its ends is not split further
+/// (0: split down to the interpolation tolerance).
 DensityProfile sample_density(double length, const std::function<double(double)>& rho,
-                              double min_size, size_t max_stations);
+                              double min_size, size_t max_stations, double floor = 0.0);
 
 /// The graded points of the profile: 0 = x_0 < x_1 < ... < x_n = M, n >= 1. Throws
 /// GeometryError(TooManyPoints) when n would exceed max_segments, after one march.

@@ -43,6 +43,7 @@ public:
     double interior_scattered(Vec2 p) const;
 
     bool interpolates() const { return interpolate_; }
+    bool curve_capped() const { return curve_cap_ != nullptr; }
     /// Sources of eq. 6.1: the start A_i of each boundary segment and its length rho_i; the
     /// field's relative error bound (inverse_distance.hpp).
     void set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths, double tolerance = 1e-3);
