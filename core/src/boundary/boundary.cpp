@@ -117,6 +117,7 @@ public:
         const CurveParametrisation* param = own ? own.get() : dc.arc_length.get();
         std::vector<VertexId>& out = d_.curve_vertices[c];
         CurveReads& reads = d_.reads[c];
+        reads.floor = station_floor();
         std::vector<double> cuts{g.t_begin()};
         for (double t : g.corners()) cuts.push_back(t);
         cuts.push_back(g.t_end());
@@ -144,7 +145,7 @@ public:
                 const DensityProfile profile = sample_density(
                     len,
                     [&](double s) { return size_at(cuts[k], cuts[k + 1], param->param_at(sa + s)); },
-                    rho_.min_size(), stations_left_, rho_.curve_capped() ? kCappedStationFloor : 0.0);
+                    rho_.min_size(), stations_left_, station_floor());
                 stations_left_ -= profile.s.size();
                 reads.stations += profile.s.size();
                 std::vector<double> stations =
@@ -179,8 +180,8 @@ public:
             d_.rho[v] = std::fmin(d_.rho[v], size);
             return v;
         };
-        if (from.reads[c].stations > stations_left_) {
-            discretise(c);  // refused, as placing it again would be
+        if (from.reads[c].stations > stations_left_ || from.reads[c].floor != station_floor()) {
+            discretise(c);  // refused, as placing it again would be; or placed with another floor
             return;
         }
         d_.end_rho[c] = from.end_rho[c];
@@ -191,6 +192,8 @@ public:
             out.push_back(add_vertex(from.point(was[i]), c, from.param[was[i]], from.rho[was[i]]));
         out.push_back(end_vertex(dc.to, from.end_rho[c][1]));
     }
+
+    double station_floor() const { return rho_.curve_capped() ? kCappedStationFloor : 0.0; }
 
     Discretisation finish() && { return std::move(d_); }
     Discretisation& result() { return d_; }

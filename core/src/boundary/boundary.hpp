@@ -38,6 +38,7 @@ struct CurveReads {
     Box box;
     double largest = 0.0;
     size_t stations = 0;
+    double floor = 0.0;  ///< the profile's floor it was placed with (sample_density)
 };
 
 struct Discretisation {
