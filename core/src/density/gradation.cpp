@@ -43,10 +43,7 @@ double GradationField::capped(Vec2 x, double upper) const {
 double GradationField::search(Vec2 x, double upper) const {
     double best = upper;
     detail::depth_first(nodes_, [&](const Node& n) {
-        // (Comparisons, not fmax: a call into the maths library each, on the interior's path.)
-        const double dx = std::max({0.0, n.box.lo.x - x.x, x.x - n.box.hi.x});
-        const double dy = std::max({0.0, n.box.lo.y - x.y, x.y - n.box.hi.y});
-        if (n.hmin + slope_ * std::sqrt(dx * dx + dy * dy) >= best) return detail::Descend::No;
+        if (n.hmin + slope_ * std::sqrt(n.box.distance2(x)) >= best) return detail::Descend::No;
         if (n.left == 0) {
             for (std::uint32_t i = n.begin; i < n.end; ++i) {
                 const double h = h_[i] + slope_ * distance(x, pts_[i]);

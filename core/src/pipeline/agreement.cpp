@@ -201,11 +201,8 @@ std::vector<bool> untouched_by(const Discretisation& d, const std::vector<Vec2>&
         if (r.box.empty()) continue;
         keep[c] = true;
         for (size_t i = from; i < points.size() && keep[c]; ++i) {
-            const Vec2 p = points[i];
-            const double dx = std::fmax(0.0, std::fmax(r.box.lo.x - p.x, p.x - r.box.hi.x));
-            const double dy = std::fmax(0.0, std::fmax(r.box.lo.y - p.y, p.y - r.box.hi.y));
             // (A margin for the rounding of the cones' sums, as in GradationField.)
-            const double lowest = sizes[i] + (ratio - 1.0) * std::sqrt(dx * dx + dy * dy);
+            const double lowest = sizes[i] + (ratio - 1.0) * std::sqrt(r.box.distance2(points[i]));
             keep[c] = lowest - 1e-12 * lowest >= r.largest;
         }
     }

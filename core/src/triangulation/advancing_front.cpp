@@ -44,9 +44,7 @@ public:
     void query(Vec2 c, double r, F&& visit) const {
         const double r2 = r * r;
         detail::depth_first(tree_.nodes, [&](const detail::KdNode& n) {
-            const double dx = std::fmax(0.0, std::fmax(n.box.lo.x - c.x, c.x - n.box.hi.x));
-            const double dy = std::fmax(0.0, std::fmax(n.box.lo.y - c.y, c.y - n.box.hi.y));
-            if (dx * dx + dy * dy > r2) return detail::Descend::No;
+            if (n.box.distance2(c) > r2) return detail::Descend::No;
             if (n.left == 0) {
                 for (std::uint32_t i = n.begin; i < n.end; ++i)
                     if (norm2(pts_[tree_.order[i]] - c) <= r2) visit(tree_.order[i]);

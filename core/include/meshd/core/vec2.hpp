@@ -51,6 +51,14 @@ struct Box {
     /// p in the box, its sides included.
     bool contains(Vec2 p) const { return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y; }
     double diagonal() const { return empty() ? 0.0 : distance(lo, hi); }
+    /// The squared distance from p to the box (0 inside). (Comparisons, not fmax: this is
+    /// on the k-d trees' search paths.)
+    double distance2(Vec2 p) const {
+        const double ex = lo.x - p.x > p.x - hi.x ? lo.x - p.x : p.x - hi.x;
+        const double ey = lo.y - p.y > p.y - hi.y ? lo.y - p.y : p.y - hi.y;
+        const double dx = ex > 0.0 ? ex : 0.0, dy = ey > 0.0 ? ey : 0.0;
+        return dx * dx + dy * dy;
+    }
 };
 
 }  // namespace meshd::core
