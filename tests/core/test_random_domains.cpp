@@ -349,6 +349,33 @@ TEST(RandomDomains, AShortWallSegmentBetweenNamedPointsGradesTheWallsBesideIt) {
     }
 }
 
+// What no rule of the layers foresaw (a narrow gap between two walls' layers, a steep fall of
+// the outer edge from a tall column to a short fan): a triangle beside the layers still below
+// 30 degrees after the smoothing's repair lowers the columns at its corners, the highest of
+// them, and the layers are grown again and the interior meshed again on their outer edge
+// (seeds 2870, 2012, 2749, 3456 and 5842: 24.4, 26.6, 28.0, 25.3 and 27.4 degrees as first
+// grown). Only the columns named lose layers (and their neighbours, whose outer edge rises
+// from them at most half the way across), and the walls stay where they were.
+TEST(RandomDomains, ASharpTriangleBesideTheLayersLowersTheColumnsAtItsCorners) {
+    for (const std::uint64_t seed : {2870u, 2012u, 2749u, 3456u, 5842u}) {
+        const LayeredCase lc = layered_case(seed);
+        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+        EXPECT_GT(r.stats.layer_rounds, 0) << seed;
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+        const auto [angle, where] = smallest_free_angle(r.mesh);
+        EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
+        // Against the layers as first grown (without the smoothing, which alone can find a
+        // triangle still sharp): few columns more are cut back.
+        MeshOptions once = lc.options;
+        once.smoothing_iterations = 0;
+        const MeshResult first = generate_mesh(lc.domain, lc.rc.density, once);
+        EXPECT_EQ(first.stats.layer_rounds, 0) << seed;
+        const auto& lowered = r.quality.boundary_layers.front();
+        const auto& grown = first.quality.boundary_layers.front();
+        EXPECT_LE(lowered.cut_back, grown.cut_back + grown.columns / 10) << seed;
+    }
+}
+
 // Two layered holes close together, their columns radial: columns of the two walls pass
 // beside each other at a slant, so the rays (which keep a strip of the local size only along
 // each column) left tops of the two walls 0.6 rho apart, joined by triangles of layer tops

@@ -58,6 +58,10 @@ public:
     void set_curve_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio);
     /// Caps rho inside (not on the curves) the same way.
     void set_interior_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio);
+    /// The interior cap as it stands (null: none), to set again with restore_interior_cap
+    /// when a stage that replaced it is done again (the layers grown again).
+    std::shared_ptr<const GradationField> interior_cap() const { return interior_cap_; }
+    void restore_interior_cap(std::shared_ptr<const GradationField> cap) { interior_cap_ = std::move(cap); }
     /// Caps rho on the curves and inside the same way (the boundary layers' fans,
     /// layers/layers.hpp), beside the two caps above.
     void set_cap(const SizeCaps& caps, double ratio);
@@ -82,7 +86,7 @@ private:
     std::unique_ptr<InverseDistanceField> idw_;
     std::unique_ptr<GradationField> graded_;
     std::unique_ptr<GradationField> curve_cap_;
-    std::unique_ptr<GradationField> interior_cap_;
+    std::shared_ptr<const GradationField> interior_cap_;
     std::unique_ptr<GradationField> cap_;
     double min_ = 0.0, max_ = 0.0;
     std::optional<double> gradation_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <numbers>
 #include <unordered_map>
 
@@ -68,9 +69,10 @@ std::map<std::pair<double, double>, size_t> index_of_points(const std::vector<Ve
 }
 
 struct Column {
-    Column(VertexId b, Vec2 d, double s, int sp) : base(b), dir(d), stretch(s), spec(sp) {}
+    Column(VertexId b, Vec2 d, double s, int sp) : base(b), dir(d), key(d), stretch(s), spec(sp) {}
     VertexId base;
     Vec2 dir;        // unit, into the domain
+    Vec2 key;        // dir as first made (a split fan column: its pivot's), for LayerColumn
     double stretch;  // >= 1
     int spec;
     int want = 0;  // layers the spec and rho ask for
@@ -96,8 +98,9 @@ class Grower {
 public:
     Grower(const Domain& domain, const Discretisation& d, const SizeField& rho,
            const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer,
-           const LayerPlan* plan = nullptr)
-        : domain_(domain), d_(d), rho_(rho), specs_(specs), max_points_(max_points), observer_(observer), plan_(plan) {}
+           const LayerPlan* plan = nullptr, const std::vector<LayerColumn>* limits = nullptr)
+        : domain_(domain), d_(d), rho_(rho), specs_(specs), max_points_(max_points), observer_(observer), plan_(plan),
+          limits_(limits) {}
 
     GrownLayers run() {
         final_ = true;
@@ -171,6 +174,7 @@ private:
                 points += col.n;
             }
         if (plan_) hold_fans_to_plan();
+        if (limits_) hold_to_limits();
         if (max_points_ && points > static_cast<double>(max_points_))
             throw GeometryError(K::TooManyPoints,
                                 "the boundary layers alone would make " + std::to_string(static_cast<size_t>(points)) +
@@ -273,6 +277,7 @@ private:
             const int steps = static_cast<int>(std::min(std::ceil(gap / field), 64.0));
             for (int j = 1; j < steps; ++j) {
                 Column f(pivot.base, unit(rotate(da, turn * j / steps)), 1.0, pivot.spec);
+                f.key = pivot.key;
                 const double across = cross(f.dir, tb - ta);
                 if (across == 0.0) continue;
                 const double reach = cross(ta - base, tb - ta) / across;  // to the segment ta tb
@@ -308,6 +313,21 @@ private:
                 // stand far closer together than the wall's points beside them.
                 const double planned = at == fan_at.end() ? 0.0 : plan_->fan_heights[at->second];
                 col.n = levels_within(col, kFanCapRatio * planned);
+            }
+    }
+
+    // The columns of limits_ no taller than its levels (found by base and first direction,
+    // which a growth on the same walls makes the same).
+    void hold_to_limits() {
+        std::map<std::tuple<VertexId, double, double>, int> most;
+        for (const LayerColumn& l : *limits_) {
+            const auto [at, fresh] = most.emplace(std::tuple{l.base, l.dir.x, l.dir.y}, l.levels);
+            if (!fresh) at->second = std::min(at->second, l.levels);
+        }
+        for (Chain& c : chains_)
+            for (Column& col : c.columns) {
+                const auto at = most.find({col.base, col.key.x, col.key.y});
+                if (at != most.end()) col.n = std::min(col.n, std::max(at->second, 0));
             }
     }
 
@@ -1010,6 +1030,15 @@ private:
                 }
             }
         }
+        g.column_of.assign(f.size(), -1);
+        for (const Chain& c : chains_)
+            for (const Column& col : c.columns)
+                for (int l = 1; l < static_cast<int>(col.ids.size()); ++l) {
+                    const std::uint32_t id = col.ids[static_cast<size_t>(l)];
+                    if (id & GrownLayers::kHidden) continue;
+                    g.column_of[id] = static_cast<std::int32_t>(g.columns.size());
+                    g.columns.push_back({col.base, col.key, l});
+                }
         // Each chain's part of the front: its columns' tops, and the whole of an end column
         // that stands free (its side borders the interior).
         std::vector<std::vector<VertexId>> fronts(chains_.size());
@@ -1266,6 +1295,7 @@ private:
     size_t max_points_;
     Observer* observer_;
     const LayerPlan* plan_;
+    const std::vector<LayerColumn>* limits_;
     bool final_ = false;  // run(), not plan(): the walls are placed for good
     std::vector<int> spec_of_;
     std::vector<size_t> loop_offsets_;  // per loop, the index of its first segment
@@ -1279,8 +1309,8 @@ private:
 
 GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
                         const std::vector<BoundaryLayerSpec>& specs, size_t max_points, Observer* observer,
-                        const LayerPlan* plan) {
-    return Grower(domain, d, rho, specs, max_points, observer, plan).run();
+                        const LayerPlan* plan, const std::vector<LayerColumn>* limits) {
+    return Grower(domain, d, rho, specs, max_points, observer, plan, limits).run();
 }
 
 namespace {

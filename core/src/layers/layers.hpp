@@ -41,6 +41,15 @@ inline constexpr double kFanTurnDeg = 60.0;
 /// The largest angle between two columns of a fan.
 inline constexpr double kFanStepDeg = 30.0;
 
+/// A column of the layers, as grow_layers grows it again: the wall point it stands on, its
+/// direction as first grown (a fan's column split off later, split_wide_fans, goes by the
+/// column it turns from), and a number of layers.
+struct LayerColumn {
+    VertexId base;
+    Vec2 dir;
+    int levels;
+};
+
 struct GrownLayers {
     /// The boundary as the layers leave it: the discretisation's points (same ids; those of
     /// lines that layers slide on spread over the rest of the line), then the sliding
@@ -56,6 +65,10 @@ struct GrownLayers {
     std::vector<std::array<std::uint32_t, 4>> quads;
     std::vector<std::array<std::uint32_t, 3>> triangles;
     std::vector<QualityMetrics::Layers> figures;  ///< per BoundaryLayerSpec
+    /// Per point of `front`: the column it is a point of (an index into `columns`, whose
+    /// `levels` is the point's level), or -1 (a wall point or another curve's).
+    std::vector<std::int32_t> column_of;
+    std::vector<LayerColumn> columns;
 };
 
 struct LayerPlan;
@@ -64,10 +77,12 @@ struct LayerPlan;
 /// names no loop curve or the layers would pass max_points points (0: no limit), or
 /// Cancelled. With `plan` (plan_layers on an earlier discretisation, whose fans spaced `d`
 /// and `rho`), no fan stands more than kFanCapRatio times as tall as planned, and a fan the
-/// plan lacks not at all.
+/// plan lacks not at all. With `limits` (columns of an earlier growth on the same `d` and
+/// `rho`), each column named there keeps at most its `levels` layers before the cut-backs.
 GrownLayers grow_layers(const Domain& domain, const Discretisation& d, const SizeField& rho,
                         const std::vector<BoundaryLayerSpec>& specs, size_t max_points = 0,
-                        Observer* observer = nullptr, const LayerPlan* plan = nullptr);
+                        Observer* observer = nullptr, const LayerPlan* plan = nullptr,
+                        const std::vector<LayerColumn>* limits = nullptr);
 
 /// The growth per element of the size cap at the fans' corners (LayerPlan::fans): gentler
 /// than the curves' agreement (1.5), as the isotropic triangles meet the fan's short tops

@@ -134,6 +134,9 @@ struct MeshStats {
     TriangulationStats triangulation;
     std::uint64_t smoothing_moves = 0, smoothing_flips = 0;
     std::uint64_t refinement_points = 0;
+    /// Times the boundary layers were grown again, lower beside triangles below 30 degrees,
+    /// and the interior meshed again on their outer edge (at most 3).
+    int layer_rounds = 0;
     /// Predicate calls the floating-point filter could not settle (exact stage).
     std::uint64_t orient_exact = 0, incircle_exact = 0;
 };
