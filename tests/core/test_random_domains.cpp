@@ -376,6 +376,26 @@ TEST(RandomDomains, ASharpTriangleBesideTheLayersLowersTheColumnsAtItsCorners) {
     }
 }
 
+// Where no lowered round leaves every triangle at 30 degrees (seed 2311: a spline's sharp tip
+// whose fan a ray from another hole cut short), the layers are grown once more as at first:
+// the user's layers are thinned only where that mends every angle. They are then those of a
+// mesh without the smoothing, which grows them once.
+TEST(RandomDomains, LayersNoRoundMendsStandAsFirstGrown) {
+    const LayeredCase lc = layered_case(2311);
+    const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+    EXPECT_EQ(r.stats.layer_rounds, 4);  // three lowered, then as at first
+    EXPECT_TRUE(check_mesh(r.mesh, false).empty());
+    MeshOptions once = lc.options;
+    once.smoothing_iterations = 0;
+    const MeshResult first = generate_mesh(lc.domain, lc.rc.density, once);
+    const auto& a = r.quality.boundary_layers.front();
+    const auto& b = first.quality.boundary_layers.front();
+    EXPECT_EQ(a.columns, b.columns);
+    EXPECT_EQ(a.cut_back, b.cut_back);
+    EXPECT_EQ(a.layers_min, b.layers_min);
+    EXPECT_EQ(r.mesh.quads, first.mesh.quads);
+}
+
 // Two layered holes close together, their columns radial: columns of the two walls pass
 // beside each other at a slant, so the rays (which keep a strip of the local size only along
 // each column) left tops of the two walls 0.6 rho apart, joined by triangles of layer tops

@@ -285,12 +285,10 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     std::vector<LayerColumn> limits;  // columns held lower beside sharp triangles
     const auto curves_cap = rho.interior_cap();
     auto grow = [&] {
+        rho.restore_interior_cap(curves_cap);  // a growth again sees the field the first saw
         layers = grow_layers(domain, d, rho, options.boundary_layers, options.max_points, observer, &plan, &limits);
         walls = triangulate_boundary(layers->front);
-        if (options.curve_agreement) {
-            rho.restore_interior_cap(curves_cap);  // a growth again sees the field the first saw
-            agree_interior_with_front(rho, layers->front);
-        }
+        if (options.curve_agreement) agree_interior_with_front(rho, layers->front);
     };
     if (!options.boundary_layers.empty()) grow();
     r.timings.boundary_ms = ms_since(t0);
@@ -302,13 +300,10 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     };
 
     Mesh& m = r.mesh;
-    struct Round {
-        Mesh mesh;
-        GrownLayers layers;
-    };
-    std::optional<Round> tried;  // the first round, when the layers are grown again
+    bool as_first = false;  // the layers grown once more without limits: no round mended all
     for (int round = 0;; ++round) {
         const Discretisation& fixed = layers ? layers->front : d;
+        m = Mesh{};  // a round's mesh is let go before the next is made
 
         // Interior.
         begin(Stage::Interior);
@@ -343,7 +338,6 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         for (size_t i = 0; i < tr.alias.size(); ++i)
             MESHD_INTERNAL_CHECK(tr.alias[i] == i, "two mesh points coincide");
         r.stats.triangulation = tr.stats;
-        m = Mesh{};
         assemble(m, domain, fixed, layers ? layers->boundary : d, inner, std::move(tr.triangles));
         r.timings.triangulation_ms += ms_since(t0);
 
@@ -360,22 +354,15 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         // at its corners are held lower and the layers grown again, and the stages above run
         // again on their new outer edge. Rare (a few domains in a thousand of the random
         // domains with layers), and each round costs a whole mesh. A lower round is kept
-        // only if it has no sharp triangle left; else the layers stand as first grown.
-        if (!layers || options.smoothing_iterations == 0) break;
-        const double angle = smallest_free_angle(m);
-        const bool sharp = angle < kLayerSharpDeg;
-        if (round == kLayerRounds || !sharp || !lower_columns_at_sharp_triangles(m, *layers, limits)) {
-            if (tried && sharp) {
-                m = std::move(tried->mesh);
-                layers = std::move(tried->layers);
-                if (options.curve_agreement) {
-                    rho.restore_interior_cap(curves_cap);
-                    agree_interior_with_front(rho, layers->front);
-                }
-            }
+        // only if it has no sharp triangle left; else the layers are grown once more as at
+        // first, and that mesh is made again (rather than kept aside: one mesh in memory).
+        if (!layers || options.smoothing_iterations == 0 || as_first || !(smallest_free_angle(m) < kLayerSharpDeg))
             break;
+        if (round == kLayerRounds || !lower_columns_at_sharp_triangles(m, *layers, limits)) {
+            if (round == 0) break;
+            limits.clear();
+            as_first = true;
         }
-        if (!tried) tried = Round{std::move(m), std::move(*layers)};
         t0 = Clock::now();
         grow();
         r.timings.boundary_ms += ms_since(t0);

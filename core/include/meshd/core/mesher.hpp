@@ -135,7 +135,8 @@ struct MeshStats {
     std::uint64_t smoothing_moves = 0, smoothing_flips = 0;
     std::uint64_t refinement_points = 0;
     /// Times the boundary layers were grown again, lower beside triangles below 30 degrees,
-    /// and the interior meshed again on their outer edge (at most 3).
+    /// and the interior meshed again on their outer edge: at most 3, and once more as first
+    /// grown when none of those left every triangle at 30 degrees or more.
     int layer_rounds = 0;
     /// Predicate calls the floating-point filter could not settle (exact stage).
     std::uint64_t orient_exact = 0, incircle_exact = 0;
