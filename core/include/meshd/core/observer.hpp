@@ -13,7 +13,9 @@ const char* to_string(Stage stage);
 class Observer {
 public:
     virtual ~Observer() = default;
-    /// fraction in [0, 1] of the stage. Called often; keep it cheap.
+    /// fraction in [0, 1] of the stage. Called often; keep it cheap. The interior, the
+    /// triangulation and the smoothing may be announced again, in order, where the boundary
+    /// layers are grown again (MeshStats::layer_rounds).
     virtual void on_progress(Stage stage, double fraction) { (void)stage; (void)fraction; }
     virtual bool should_stop() { return false; }
     /// Once per mesh, after the admission check and before any stage: the points the mesh is
