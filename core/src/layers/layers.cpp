@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <tuple>
 #include <numbers>
+#include <tuple>
 #include <unordered_map>
 
 #include "geometry/curve.hpp"
