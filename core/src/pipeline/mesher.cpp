@@ -17,7 +17,6 @@
 #include "improve/smooth.hpp"
 #include "interior/interior.hpp"
 #include "layers/layers.hpp"
-#include "kernel/constructions.hpp"
 #include "kernel/memory.hpp"
 #include "kernel/predicates.hpp"
 #include "kernel/spatial_order.hpp"
@@ -139,51 +138,46 @@ void add_layers(Mesh& m, const GrownLayers& g) {
 
 /// Rounds of growing the layers again, lower beside sharp triangles, at most.
 constexpr int kLayerRounds = 3;
-/// The angle below which a triangle beside the layers lowers the columns at its corners (the
-/// smallest angle issue 15 asks of every domain).
-constexpr double kLayerSharpDeg = 30.0;
+/// The tangent of the angle below which a triangle beside the layers lowers the columns at
+/// its corners: 30 degrees, the smallest angle issue 15 asks of every domain.
+constexpr double kLayerSharpTan = std::numbers::inv_sqrt3;
 
-// Triangle t's angle at its corner i (radians), or none (pi) where both edges there are
-// constrained: the domain's own corners, the layers' outer edge where it bends.
-double free_angle(const Mesh& m, const Triangle& t, std::uint32_t i) {
-    if ((t.constrained >> ((i + 1) % 3) & 1u) && (t.constrained >> ((i + 2) % 3) & 1u)) return std::numbers::pi;
-    const Vec2 a = m.point(t.v[i]);
-    return angle_between(m.point(t.v[(i + 1) % 3]) - a, m.point(t.v[(i + 2) % 3]) - a);
+// Whether triangle t has a corner sharper than kLayerSharpTan, but for a corner between two
+// constrained edges (the domain's own, the layers' outer edge where it bends). Without an
+// arc tangent: it runs over every triangle of a mesh with layers.
+bool sharp(const Mesh& m, const Triangle& t) {
+    for (std::uint32_t i = 0; i < 3; ++i) {
+        if ((t.constrained >> ((i + 1) % 3) & 1u) && (t.constrained >> ((i + 2) % 3) & 1u)) continue;
+        const Vec2 a = m.point(t.v[i]), u = m.point(t.v[(i + 1) % 3]) - a, w = m.point(t.v[(i + 2) % 3]) - a;
+        const double along = dot(u, w);
+        if (along > 0.0 && std::fabs(cross(u, w)) < kLayerSharpTan * along) return true;
+    }
+    return false;
 }
 
-// The smallest free angle of the mesh's triangles (free_angle), in degrees.
-double smallest_free_angle(const Mesh& m) {
-    double smallest = std::numbers::pi;
-    for (const Triangle& t : m.triangles)
-        for (std::uint32_t i = 0; i < 3; ++i) smallest = std::min(smallest, free_angle(m, t, i));
-    return smallest * 180.0 / std::numbers::pi;
+bool any_sharp(const Mesh& m) {
+    return std::any_of(m.triangles.begin(), m.triangles.end(), [&](const Triangle& t) { return sharp(m, t); });
 }
 
-// The columns of the layers with a point at a corner of a triangle that has a free angle
-// below kLayerSharpDeg (the highest of those points, where there are several) are held, in
+// The columns of the layers with a point at a corner of a sharp triangle (sharp()) (the
+// highest of those points, where there are several) are held, in
 // `limits`, to a quarter fewer layers than that point's level, one at least: a narrow gap
 // between two walls' layers widened, a steep fall of the outer edge from a tall column to a
 // short one flattened (lowering the short one would steepen it). True when any was.
 bool lower_columns_at_sharp_triangles(const Mesh& m, const GrownLayers& g, std::vector<LayerColumn>& limits) {
-    const double sharp = kLayerSharpDeg * std::numbers::pi / 180.0;
+    const auto column_at = [&](VertexId v) -> const LayerColumn* {
+        return v < g.column_of.size() && g.column_of[v] >= 0 ? &g.columns[static_cast<size_t>(g.column_of[v])] : nullptr;
+    };
     const size_t before = limits.size();
     for (const Triangle& t : m.triangles) {
-        bool beside = false;
-        for (const VertexId v : t.v) beside = beside || (v < g.column_of.size() && g.column_of[v] >= 0);
-        if (!beside) continue;
-        bool is_sharp = false;
-        for (std::uint32_t i = 0; i < 3; ++i) is_sharp = is_sharp || free_angle(m, t, i) < sharp;
-        if (!is_sharp) continue;
         int highest = 0;
         for (const VertexId v : t.v)
-            if (v < g.column_of.size() && g.column_of[v] >= 0)
-                highest = std::max(highest, g.columns[static_cast<size_t>(g.column_of[v])].levels);
+            if (const LayerColumn* col = column_at(v)) highest = std::max(highest, col->levels);
+        if (highest == 0 || !sharp(m, t)) continue;
         for (const VertexId v : t.v) {
-            if (v >= g.column_of.size() || g.column_of[v] < 0) continue;
-            LayerColumn col = g.columns[static_cast<size_t>(g.column_of[v])];
-            if (col.levels < highest) continue;
-            col.levels -= std::max(1, col.levels / 4);
-            limits.push_back(col);
+            const LayerColumn* col = column_at(v);
+            if (!col || col->levels < highest) continue;
+            limits.push_back({col->base, col->dir, col->levels - std::max(1, col->levels / 4)});
         }
     }
     return limits.size() > before;
@@ -356,8 +350,8 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         // domains with layers), and each round costs a whole mesh. A lower round is kept
         // only if it has no sharp triangle left; else the layers are grown once more as at
         // first, and that mesh is made again (rather than kept aside: one mesh in memory).
-        if (!layers || options.smoothing_iterations == 0 || as_first || !(smallest_free_angle(m) < kLayerSharpDeg))
-            break;
+        // (A first round without a sharp triangle beside the layers needs no other look.)
+        if (!layers || options.smoothing_iterations == 0 || as_first || (round > 0 && !any_sharp(m))) break;
         if (round == kLayerRounds || !lower_columns_at_sharp_triangles(m, *layers, limits)) {
             if (round == 0) break;
             limits.clear();
