@@ -442,20 +442,25 @@ private:
         const double k = static_cast<double>(last - first);
         const Vec2 target = sum / k;
         if (norm2(target - old) < kSettled * kSettled * spokes2 / k) return false;
-        // The star's shapes only for a move that will be tried (most visits after the first
-        // sweep end above: the point has settled).
-        double worst_before = 1.0;
-        for (auto e = first; e < last; ++e)
-            worst_before = std::min(worst_before, shape(old, pts_[opposite_[e][0]], pts_[opposite_[e][1]]));
+        // The star's worst shape before the move only when a triangle after it is below
+        // kFreeShape: a move that keeps every triangle at kFreeShape or better is made
+        // whatever the star was (most moves are of that kind).
+        double least = kFreeShape;
+        bool least_known = false;
         for (const double step : {1.0, 0.5}) {
             const Vec2 p = old + step * (target - old);
             bool ok = true;
             for (auto e = first; e < last && ok; ++e) {
                 const Vec2 a = pts_[opposite_[e][0]], b = pts_[opposite_[e][1]];
+                const double q = shape(p, a, b);
+                if (q < least && !least_known) {
+                    least_known = true;
+                    for (auto f = first; f < last; ++f)
+                        least = std::min(least, shape(old, pts_[opposite_[f][0]], pts_[opposite_[f][1]]));
+                }
                 // The shape alone cannot tell a sliver from an inverted triangle when its
                 // area is lost in rounding: the exact orientation decides those.
-                const double q = shape(p, a, b);
-                ok = q >= std::min(worst_before, kFreeShape) && (q > kShapeCertain || orient2d(p, a, b) == Orientation::Left);
+                ok = q >= least && (q > kShapeCertain || orient2d(p, a, b) == Orientation::Left);
             }
             if (ok) {
                 pts_[v] = p;
