@@ -54,6 +54,7 @@ public:
         return b == kNone ? kNone : blocks_[b].head[within(x, y)];
     }
     void push(int k, std::int64_t x, std::int64_t y, const Item& item) {
+        classes_ |= class_bit(k);
         std::uint32_t& h = blocks_[block(k, x, y)].head[within(x, y)];
         entries_.push_back({item, h});
         h = static_cast<std::uint32_t>(entries_.size() - 1);
@@ -120,6 +121,7 @@ private:
     template <class Self, class Cell>
     static bool for_cells(Self& self, int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1,
                           Cell&& cell) {
+        if (!(self.classes_ & class_bit(k))) return false;  // no item of this class anywhere
         for (std::int64_t bx = x0 >> 2; bx <= x1 >> 2; ++bx)
             for (std::int64_t by = y0 >> 2; by <= y1 >> 2; ++by) {
                 const std::uint32_t b = self.find_block(k, bx << 2, by << 2);
@@ -147,6 +149,8 @@ private:
         return (static_cast<std::uint64_t>(k) << 56) | ((static_cast<std::uint64_t>(x >> 2) & mask) << 28) |
                (static_cast<std::uint64_t>(y >> 2) & mask);
     }
+    // The bit of class k in classes_ (classes beyond 63 share the last bit).
+    static std::uint64_t class_bit(int k) { return std::uint64_t{1} << std::clamp(k, 0, 63); }
     static size_t within(std::int64_t x, std::int64_t y) { return static_cast<size_t>((x & 3) << 2 | (y & 3)); }
     size_t slot_of(std::uint64_t key) const {
         const size_t mask = slots_.size() - 1;
@@ -182,6 +186,8 @@ private:
 
     HugeVector<Slot> slots_;
     int shift_ = 64;
+    std::uint64_t classes_ = 0;  // bit k: the grid holds an item of class k (a query of any
+                                 // other class ends before its first hash probe)
     HugeVector<Block> blocks_;
     HugeVector<Entry> entries_;
 };
