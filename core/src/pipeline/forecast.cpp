@@ -101,7 +101,13 @@ double forecast_boundary(const Domain& domain, const SizeField& rho, size_t budg
             for (int i = 0; i < 4; ++i) queue.push(make(c, ta + (tb - ta) * i / 4, ta + (tb - ta) * (i + 1) / 4));
         }
     }
-    while (!queue.empty() && samples + 2 <= budget && queue.top().count > kResolved) {
+    // The count of the intervals so far, for the relative resolution (as the interior's).
+    double sum = 0.0;
+    {
+        auto copy = queue;
+        for (; !copy.empty(); copy.pop()) sum += copy.top().count;
+    }
+    while (!queue.empty() && samples + 2 <= budget && queue.top().count > std::max(kResolved, kRelativeResolution * sum)) {
         const Interval x = queue.top();
         queue.pop();
         const double tm = 0.5 * (x.ta + x.tb);
@@ -109,8 +115,10 @@ double forecast_boundary(const Domain& domain, const SizeField& rho, size_t budg
             out.push_back(x);
             continue;
         }
-        queue.push(make(x.curve, x.ta, tm));
-        queue.push(make(x.curve, tm, x.tb));
+        const Interval lo = make(x.curve, x.ta, tm), hi = make(x.curve, tm, x.tb);
+        sum += lo.count + hi.count - x.count;
+        queue.push(lo);
+        queue.push(hi);
     }
     double total = 0.0;
     out.reserve(out.size() + queue.size());
