@@ -35,12 +35,15 @@ namespace {
 
 // A piece holding fewer points than this is resolved: splitting it changes the count little.
 constexpr double kResolved = 0.25;
-// A cell of the plane holding less than this fraction of the interior's count so far is
-// resolved too: a small mesh is forecast from about one sample per point, not four (the
-// sample budget binds long before this on large meshes). Each of 1/4096 -> 1/1024 -> 1/256
-// moved the forecast of every example by at most 1.5% of its points and halved the samples
-// of a small request; the last took 18% off the load run's boundary stage
-// (bench/forecast_driver.cpp, docs/benchmarks.md).
+// A piece holding less than this fraction of its integral's count so far is resolved too:
+// a small mesh is forecast from about one sample per point, not four (the sample budget binds
+// long before this on large meshes). For the interior's cells each of 1/4096 -> 1/1024 ->
+// 1/256 moved the forecast of every example by at most 1.5% of its points and halved the
+// samples of a small request; the last took 18% off the load run's boundary stage. The
+// curves' intervals stop at it too (they stopped at a quarter of a point: 800 samples for the
+// load run's 199 boundary points): every example's forecast moved by under 0.3%, and the
+// whole forecast took half the samples or fewer (bench/forecast_driver.cpp,
+// docs/benchmarks.md).
 constexpr double kRelativeResolution = 1.0 / 256.0;
 
 // Where in its cell a sample sits: off the centre, so that the samples of cells on a regular
