@@ -122,11 +122,18 @@ public:
         for (double t : g.corners()) cuts.push_back(t);
         cuts.push_back(g.t_end());
         // rho where the curve places a point at parameter t of its piece [ta, tb].
+        // shape_cap is kMaxSegmentTurn times the chord over the turn of a short stretch: on a
+        // circle of radius r, kMaxSegmentTurn r sin(d / 2) / (d / 2) for a turn d of at most
+        // 2e-4 of the piece, within 1e-6 of kMaxSegmentTurn r. A size below a tenth less than
+        // that for the curve's least radius is the smaller whatever the cap (lines and arcs
+        // skip its four evaluations of the curve and an arc tangent a station).
+        const double no_cap_below = 0.9 * tol::kMaxSegmentTurn * g.least_radius();
         auto size_at = [&](double ta, double tb, double t) {
             const Vec2 p = g.point(t);
             const double h = rho_.on_curve(c, p);
             reads.box.add(p);
             reads.largest = std::fmax(reads.largest, h);
+            if (h < no_cap_below) return h;
             return std::fmin(h, shape_cap(g, ta, tb, t, rho_.min_size()));
         };
         auto end_vertex = [&](PointId p, double ta, double tb, double t, double& curve_end) {

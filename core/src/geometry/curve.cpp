@@ -173,6 +173,7 @@ public:
         return lerp(a_, b_, t);
     }
     Vec2 derivative(double) const override { return b_ - a_; }
+    double least_radius() const override { return HUGE_VAL; }
 
 private:
     Vec2 a_, b_;
@@ -198,6 +199,7 @@ public:
         return {-sign_ * r_ * std::sin(ang), sign_ * r_ * std::cos(ang)};
     }
     bool corner_at_ends() const override { return sweep_ < 2.0 * std::numbers::pi; }
+    double least_radius() const override { return r_; }
 
 private:
     Vec2 a_, b_, c_;

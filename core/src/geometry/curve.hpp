@@ -39,6 +39,10 @@ public:
     virtual std::vector<double> corners() const { return {}; }
     /// True when the tangent direction jumps at the closing point of a closed curve.
     virtual bool corner_at_ends() const { return true; }
+    /// A lower bound of the curve's radius of curvature everywhere (0 when not known; infinite
+    /// for a straight curve). The boundary's sizes are capped by the curvature (shape_cap in
+    /// boundary.cpp), which a size well below this bound cannot reach.
+    virtual double least_radius() const { return 0.0; }
     /// The curve's own control polygon, when it has one (B-splines): the paper's
     /// section 3.3 parametrisation needs it.
     virtual const class BSplineCurve* as_bspline() const { return nullptr; }

@@ -20,6 +20,7 @@ public:
     Vec2 derivative(double t) const override { return whole_->derivative(t); }
     std::vector<double> breaks() const override { return inside(whole_->breaks()); }
     std::vector<double> corners() const override { return inside(whole_->corners()); }
+    double least_radius() const override { return whole_->least_radius(); }
 
 private:
     std::vector<double> inside(std::vector<double> ts) const {
