@@ -143,6 +143,43 @@ TEST(Boundary, FullCircleHoleAndReversedCurves) {
     expect_spacing_law(dom, rho, d, 0.05);
 }
 
+// A circular hole of radius 0.05 under a size of 1: the size along it is capped at
+// kMaxSegmentTurn (90 degrees) times its radius, so each segment turns by at most about a
+// quarter of the circle and the hole has four segments at least (a closed curve on its own
+// gets three whatever its size). The cap is skipped only below 0.9 of that (least_radius).
+TEST(Boundary, ASmallHoleUnderACoarseSizeIsSpacedByItsCurvature) {
+    DomainSpec s = unit_square();
+    s.loops = {loop({"-left", "-top", "-right", "-bottom"})};
+    const double r = 0.05;
+    s.points.push_back({"P", {0.5 + r, 0.5}});
+    s.curves.push_back(arc("hole", "P", "P", {0.5, 0.5}, ArcDirection::Cw));
+    s.loops.push_back(loop({"hole"}));
+    const Domain dom = build_domain(s);
+    // A size whose segments would turn by 120 degrees (below the 135 past which a step is
+    // halved to keep the shape), and one far above the cap.
+    for (const double size : {2.1 * r, 1.0}) {
+        SCOPED_TRACE(size);
+        DensitySpec spec;
+        spec.size = size;
+        SizeField rho(spec, dom);
+        const Discretisation d = discretise_boundary(dom, rho);
+        ASSERT_EQ(d.loops.size(), 2u);
+        EXPECT_GE(d.loops[1].size(), 4u);
+        for (const BoundarySegment& seg : d.segments) {
+            if (dom.curves()[seg.curve].name != "hole") continue;
+            // The turn of a chord of a circle is the angle it spans: 2 asin(l / 2r).
+            const double l = distance(d.point(seg.a), d.point(seg.b));
+            EXPECT_LE(2.0 * std::asin(std::fmin(1.0, l / (2.0 * r))), 0.5 * std::numbers::pi * 1.05);
+        }
+    }
+    // An eighth of the circumference, below the cap: the cap is skipped, and the spacing law
+    // holds on the circle as on the square's sides.
+    DensitySpec fine;
+    fine.size = 0.25 * std::numbers::pi * r;
+    SizeField rho_fine(fine, dom);
+    expect_spacing_law(dom, rho_fine, discretise_boundary(dom, rho_fine), 0.05);
+}
+
 TEST(Boundary, CoarseDensityAcrossANarrowGapIsReported) {
     // A narrow annulus: chords of the outer circle cut into the hole when rho is large.
     DomainSpec s;

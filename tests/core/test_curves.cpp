@@ -93,6 +93,43 @@ TEST(Arc, FullCircle) {
     EXPECT_FALSE(arc->corner_at_ends());
 }
 
+// least_radius() is a lower bound of the radius of curvature |C'|^3 / |C' x C''| (C'' by
+// central differences of the derivative) at every sampled parameter: the boundary skips the
+// curvature cap below it. A line's is infinite; a curve without a known bound says 0.
+TEST(Curve, LeastRadiusBoundsTheRadiusOfCurvature) {
+    auto radius_at = [](const Curve& g, double t) {
+        const double h = 1e-5 * (g.t_end() - g.t_begin());
+        const Vec2 d = g.derivative(t), dd = (g.derivative(t + h) - g.derivative(t - h)) / (2.0 * h);
+        const double k = std::fabs(cross(d, dd));
+        return k > 0.0 ? std::pow(norm(d), 3.0) / k : HUGE_VAL;
+    };
+    std::vector<std::shared_ptr<const Curve>> curves;
+    const Vec2 c{0.5, -0.25};
+    for (const double r : {0.01, 3.0, 250.0})
+        for (auto dir : {ArcDirection::Ccw, ArcDirection::Cw})
+            curves.push_back(make_arc(c + Vec2{r * std::cos(0.3), r * std::sin(0.3)},
+                                      c + Vec2{r * std::cos(2.1), r * std::sin(2.1)}, c, dir, false));
+    curves.push_back(make_arc({20.5, 0}, {20.5, 0}, {0.5, 0}, ArcDirection::Cw, true));
+    curves.push_back(make_part(curves.back(), 1.0, 2.5));
+    curves.push_back(make_line({0, 0}, {3, 1}));
+    for (const auto& g : curves) {
+        const double bound = g->least_radius();
+        ASSERT_GT(bound, 0.0);
+        for (int i = 1; i < 100; ++i) {
+            const double t = g->t_begin() + (g->t_end() - g->t_begin()) * i / 100.0;
+            const double r = radius_at(*g, t);
+            EXPECT_LE(bound, r * (1.0 + 1e-6)) << "at t = " << t;
+            if (std::isfinite(r)) {
+                EXPECT_GT(bound, 0.999 * r) << "an arc's bound is its radius";
+            }
+        }
+    }
+    EXPECT_EQ(make_line({0, 0}, {1, 1})->least_radius(), HUGE_VAL);
+    NacaSpec naca;
+    naca.code = "0012";
+    EXPECT_EQ(make_naca(naca)->least_radius(), 0.0);  // not known: the cap is always measured
+}
+
 TEST(Arc, EndsOffTheCircleAreRefused) {
     EXPECT_EQ(kind_of([] { make_arc({1, 0}, {0, 1.001}, {0, 0}, ArcDirection::Ccw, false); }),
               GeometryErrorKind::ArcEndsOffCircle);
