@@ -124,9 +124,9 @@ public:
         // rho where the curve places a point at parameter t of its piece [ta, tb].
         // shape_cap is kMaxSegmentTurn times the chord over the turn of a short stretch: on a
         // circle of radius r, kMaxSegmentTurn r sin(d / 2) / (d / 2) for a turn d of at most
-        // 2e-4 of the piece, within 1e-6 of kMaxSegmentTurn r. A size below a tenth less than
-        // that for the curve's least radius is the smaller whatever the cap (lines and arcs
-        // skip its four evaluations of the curve and an arc tangent a station).
+        // 2e-4 of the piece, within 1e-6 of kMaxSegmentTurn r. A size below 0.9 times that for
+        // the curve's least radius is the smaller whatever the cap: lines and arcs skip its
+        // four evaluations of the curve and its arc tangent a station.
         const double no_cap_below = 0.9 * tol::kMaxSegmentTurn * g.least_radius();
         auto size_at = [&](double ta, double tb, double t) {
             const Vec2 p = g.point(t);
