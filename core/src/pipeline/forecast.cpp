@@ -83,6 +83,9 @@ double forecast_boundary(const Domain& domain, const SizeField& rho, size_t budg
         for (const CurveUse& u : l.items) used[u.curve] = true;
     for (CurveId c : domain.embedded()) used[c] = true;
 
+    // The count of the intervals so far, for the relative resolution (as the interior's): each
+    // interval made adds its count, a split interval's is taken off.
+    double sum = 0.0;
     auto make = [&](CurveId c, double ta, double tb) {
         const Curve& g = *domain.curves()[c].geometry;
         const double tm = 0.5 * (ta + tb);
@@ -90,7 +93,9 @@ double forecast_boundary(const Domain& domain, const SizeField& rho, size_t budg
         const double h = rho.on_curve(c, p);
         ++samples;
         poll();
-        return Interval{c, ta, tb, p, h, (tb - ta) * norm(g.derivative(tm)) / h};
+        const Interval x{c, ta, tb, p, h, (tb - ta) * norm(g.derivative(tm)) / h};
+        sum += x.count;
+        return x;
     };
     std::priority_queue<Interval, std::vector<Interval>, ByCount> queue;
     for (CurveId c = 0; c < domain.curves().size(); ++c) {
@@ -104,12 +109,6 @@ double forecast_boundary(const Domain& domain, const SizeField& rho, size_t budg
             for (int i = 0; i < 4; ++i) queue.push(make(c, ta + (tb - ta) * i / 4, ta + (tb - ta) * (i + 1) / 4));
         }
     }
-    // The count of the intervals so far, for the relative resolution (as the interior's).
-    double sum = 0.0;
-    {
-        auto copy = queue;
-        for (; !copy.empty(); copy.pop()) sum += copy.top().count;
-    }
     while (!queue.empty() && samples + 2 <= budget && queue.top().count > std::max(kResolved, kRelativeResolution * sum)) {
         const Interval x = queue.top();
         queue.pop();
@@ -118,10 +117,9 @@ double forecast_boundary(const Domain& domain, const SizeField& rho, size_t budg
             out.push_back(x);
             continue;
         }
-        const Interval lo = make(x.curve, x.ta, tm), hi = make(x.curve, tm, x.tb);
-        sum += lo.count + hi.count - x.count;
-        queue.push(lo);
-        queue.push(hi);
+        sum -= x.count;
+        queue.push(make(x.curve, x.ta, tm));
+        queue.push(make(x.curve, tm, x.tb));
     }
     double total = 0.0;
     out.reserve(out.size() + queue.size());
