@@ -3,6 +3,7 @@
 #include "interior/interior.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -24,8 +25,9 @@ using detail::prev3;
 
 // The points' grid holds copies of the coordinates and sizes (a proximity test reads one
 // chain entry and nothing else); the segments' grid holds front segment indices (copies
-// made its entries ten times larger and the stage twice slower). Both tests tell the points
-// A and B of the tested segment by their coordinates: no two points of the front coincide.
+// made its entries ten times larger and the stage twice slower). The crossing test tells the
+// points A and B of the tested segment by their coordinates: no two points of the front
+// coincide.
 struct GridPoint {
     Vec2 p;
     double rho;
@@ -111,6 +113,7 @@ private:
         prho_.push_back(r);
         home_.push_back(home);
         const int k = classes_.class_of(r);
+        largest_rho_[static_cast<size_t>(k)] = std::fmax(largest_rho_[static_cast<size_t>(k)], r);
         points_.push(k, classes_.ix(p.x, k), classes_.iy(p.y, k), GridPoint{p, r, static_cast<std::uint32_t>(pts_.size() - 1)});
         if (max_points_ && pts_.size() > max_points_)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
@@ -162,20 +165,21 @@ private:
     // Each point is in the grid of its own class; C's class and its neighbours are looked at
     // first, as they hold the offending point of most rejected candidates, and any offending
     // point decides: its id, or kNoPoint.
-    std::uint32_t near_other_point(Vec2 c, double rc, Vec2 a, Vec2 b) const {
+    std::uint32_t near_other_point(Vec2 c, double rc, std::uint32_t a, std::uint32_t b) const {
         std::uint32_t found = kNoPoint;
+        // The distance first: A and B are rarely within reach, and the ids are cheaper to
+        // tell apart than the coordinates.
         auto near = [&](const GridPoint& q) {
-            if (q.p == a || q.p == b) return false;
             const double lim = opt_.proximity * 0.5 * (rc + q.rho);
-            if (!(norm2(q.p - c) < lim * lim)) return false;
+            if (!(norm2(q.p - c) < lim * lim) || q.id == a || q.id == b) return false;
             found = q.id;
             return true;
         };
         const int k = classes_.class_of(rc);
         for (int j : {k, k - 1, k + 1, k - 2, k - 3}) {
             if (j < 1 || j > SizeClasses::kMax) continue;
-            // rho in class j is below 2 c_j = cell(j); the reach is (rc + that) / 2.
-            const double reach = opt_.proximity * 0.5 * (rc + classes_.cell(j));
+            // The reach is (rc + the largest rho of class j so far) / 2.
+            const double reach = opt_.proximity * 0.5 * (rc + largest_rho_[static_cast<size_t>(j)]);
             if (points_.any_in(j, classes_.ix(c.x - reach, j), classes_.ix(c.x + reach, j), classes_.iy(c.y - reach, j),
                                classes_.iy(c.y + reach, j), near))
                 return found;
@@ -195,9 +199,10 @@ private:
     // retires those segments from the grid's chains as it meets them (44% of the entries it
     // visited on the load run's square); with them and without, every example's mesh was the
     // same, and so were the point totals of 2,840 random domains.
-    // With `c_on_front` (c is a point of the front, not a candidate), segments ending at c
-    // meet AC and BC there by construction too.
-    bool crosses_front(Vec2 a, Vec2 b, Vec2 c, bool c_on_front = false) {
+    // With `ic` (the id of c when c is a point of the front, not a candidate), segments
+    // ending at c meet AC and BC there by construction too.
+    bool crosses_front(std::uint32_t ia, std::uint32_t ib, Vec2 c, std::uint32_t ic = kNoPoint) {
+        const Vec2 a = pts_[ia], b = pts_[ib];
         struct Edge {
             Vec2 p, lo, hi;
             int k;
@@ -216,18 +221,22 @@ private:
                     box.add(edges[i].hi);
                 }
             auto crossed = [&](const GridSegment& si) {
-                const Vec2 sa = pts_[front_[si].a], sb = pts_[front_[si].b];
-                // Segments sharing an end with AB meet AC or BC there by construction.
-                if (sa == a || sa == b || sb == a || sb == b) return false;
-                if (c_on_front && (sa == c || sb == c)) return false;
+                const FrontSegment& f = front_[si];
+                const Vec2 sa = pts_[f.a], sb = pts_[f.b];
                 const Vec2 slo{std::min(sa.x, sb.x), std::min(sa.y, sb.y)};
                 const Vec2 shi{std::max(sa.x, sb.x), std::max(sa.y, sb.y)};
+                // Whether the boxes meet, for each side of this class (| rather than ||: no
+                // branch per comparison). Most segments of the cells meet neither.
+                bool meets[2];
                 for (int i = 0; i < 2; ++i) {
                     const Edge& g = edges[i];
-                    if (!use[i] | (shi.x < g.lo.x) | (slo.x > g.hi.x) | (shi.y < g.lo.y) | (slo.y > g.hi.y))
-                        continue;  // not this class, or the boxes do not meet (| rather than ||: no branch per comparison)
-                    if (segments_intersect(g.p, c, sa, sb)) return true;
+                    meets[i] = use[i] & (shi.x >= g.lo.x) & (slo.x <= g.hi.x) & (shi.y >= g.lo.y) & (slo.y <= g.hi.y);
                 }
+                if (!(meets[0] | meets[1])) return false;
+                // Segments sharing an end with AB meet AC or BC there by construction.
+                if (f.a == ia || f.a == ib || f.b == ia || f.b == ib || f.a == ic || f.b == ic) return false;
+                for (int i = 0; i < 2; ++i)
+                    if (meets[i] && segments_intersect(edges[i].p, c, sa, sb)) return true;
                 return false;
             };
             auto retired = [&](const GridSegment& si) { return front_[si].consumed; };
@@ -286,7 +295,7 @@ private:
         if (orient2d(a, b, c) != Orientation::Left) return;
         const std::uint32_t bp = find_segment(seg.b, p), pa = find_segment(p, seg.a);
         if (!((bp != kNoPoint && front_[bp].alive) || (pa != kNoPoint && front_[pa].alive))) return;
-        if (crosses_front(a, b, c, true)) return;
+        if (crosses_front(seg.a, seg.b, c, p)) return;
         ++closings_;
         for (const auto& [u, v] : {std::pair{seg.a, p}, std::pair{p, seg.b}}) {
             if (const std::uint32_t back = find_segment(v, u); back != kNoPoint && front_[back].alive) {
@@ -332,13 +341,13 @@ private:
             }
         }
         // The cheap local tests first: (4.22) rejects about half of all candidates.
-        if (const std::uint32_t p = near_other_point(c, rc, a, b); p != kNoPoint) {
+        if (const std::uint32_t p = near_other_point(c, rc, seg.a, seg.b); p != kNoPoint) {
             ++stats_.rejected_near;
             front_[s].alive = false;
             if (rc > kCloseGrowth * std::fmin(ra, rb)) close_on(seg, p);
             return;
         }
-        if (crosses_front(a, b, c)) {
+        if (crosses_front(seg.a, seg.b, c)) {
             ++stats_.rejected_crossing;
             front_[s].alive = false;
             return;
@@ -380,6 +389,7 @@ private:
     detail::HugeVector<std::uint32_t> stack_;
     size_t closings_ = 0, closings_attempted_ = 0;
     CellGrid<GridPoint> points_;
+    std::array<double, SizeClasses::kMax + 1> largest_rho_{};  // of the points in each class
     CellGrid<GridSegment, true> segments_;
 };
 
