@@ -38,6 +38,7 @@ enum class Op : std::uint8_t {
     Min, Max,
     Call1, Call2,
     JumpIfZero, Jump,
+    Sqrt,  // a call of sqrt, without the call (made by emit only)
 };
 
 using Fn1 = double (*)(double);
@@ -370,7 +371,8 @@ struct Expression::Impl {
             case Op::Y: push({Op::Y}, sp, 1); return;
             case Op::Neg: case Op::Square: case Op::Call1:
                 emit(n, node.a, sp);
-                push({node.op, 0, 0.0, node.fn}, sp, 0);
+                if (node.op == Op::Call1 && node.fn->f1 == f_sqrt) push({Op::Sqrt}, sp, 0);
+                else push({node.op, 0, 0.0, node.fn}, sp, 0);
                 return;
             case Op::Call2:
                 emit(n, node.a, sp);
@@ -428,7 +430,15 @@ struct Expression::Impl {
                 case Op::MulC: at(sp) *= in->value; break;
                 case Op::DivC: at(sp) /= in->value; break;
                 case Op::RDivC: at(sp) = in->value / at(sp); break;
+                case Op::Sqrt: at(sp) = std::sqrt(at(sp)); break;
                 case Op::Call1: at(sp) = in->fn->f1(at(sp)); break;
+                // The commonest binary operators without apply()'s second dispatch.
+                case Op::Add: --sp; at(sp) += at(sp + 1); break;
+                case Op::Sub: --sp; at(sp) -= at(sp + 1); break;
+                case Op::Mul: --sp; at(sp) *= at(sp + 1); break;
+                case Op::Div: --sp; at(sp) /= at(sp + 1); break;
+                case Op::Lt: --sp; at(sp) = at(sp) < at(sp + 1) ? 1.0 : 0.0; break;
+                case Op::Gt: --sp; at(sp) = at(sp) > at(sp + 1) ? 1.0 : 0.0; break;
                 case Op::Call2: --sp; at(sp) = in->fn->f2(at(sp), at(sp + 1)); break;
                 case Op::JumpIfZero:
                     if (at(sp--) == 0.0) in = begin + in->target - 1;
