@@ -5,6 +5,7 @@
 #include <numbers>
 #include <thread>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +20,7 @@
 #include "density/size_field.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/mesher.hpp"
+#include "pipeline/estimate.hpp"
 
 using namespace meshd::core;
 using namespace meshd::test;
@@ -110,6 +112,46 @@ TEST(Expression, SharedBetweenThreads) {
     }
     EXPECT_EQ(out[0], expect0);
     EXPECT_EQ(out[1], expect1);
+}
+
+// Expression::evaluate gives each point of a batch what operator() gives it, to the bit:
+// conditionals (both branches computed, one kept; a NaN condition takes the first, as the
+// one-point machine's jump does), every operator and function, values that are infinite or
+// NaN, counts that are not a multiple of the batch. A chain of conditionals too deep for the
+// batch stack runs point by point.
+TEST(Expression, BatchesGiveEachPointItsOwnValue) {
+    std::string chain = "x";
+    for (int i = 40; i >= 1; --i) chain = "x < " + std::to_string(i * 0.05) + " ? " + std::to_string(i) + " : (" + chain + ")";
+    const std::vector<std::string> texts{
+        "(x < 0.5 ? 0.1*sqrt(x^2+y^2)+0.007 : 0.1*sqrt((x-1.008930411365)^2+y^2)+0.006) * 0.1",
+        "sqrt(x - 0.3) ? 1 : 2",  // a NaN condition on the left of 0.3
+        "x > y ? (y > 0.2 ? x*y : x/y) : -(x - y)^3",
+        "1 / (x - 0.5) + log(y) - exp(x) * sin(3*y) / cos(x)",
+        "min(x, y, 0.3) + max(x, 0.1) + avg(x, y, 1) + sum(x, y) + pow(x, y) + atan2(y, x - 0.5)",
+        "x <= y && y >= 0.25 || x == y || x != 0.75 ? abs(x - y) + floor(7*x) + sign(y - 0.5) : tanh(x)",
+        "2 - x / 3 - 4 / (y + 1) + 0.5 - -x",
+        chain,
+    };
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-0.1, 1.1);
+    std::vector<double> x, y;
+    for (int i = 0; i < 1000; ++i) {
+        x.push_back(u(rng));
+        y.push_back(u(rng));
+    }
+    x[10] = 0.5;  // 1 / 0
+    y[11] = 0.0;  // log 0
+    for (const std::string& text : texts) {
+        SCOPED_TRACE(text);
+        const Expression e(text);
+        for (const size_t n : {size_t{1}, size_t{31}, size_t{32}, size_t{33}, size_t{1000}}) {
+            std::vector<double> out(n, -1.0);
+            e.evaluate(x.data(), y.data(), out.data(), n);
+            for (size_t i = 0; i < n; ++i)
+                ASSERT_EQ(std::bit_cast<std::uint64_t>(out[i]), std::bit_cast<std::uint64_t>(e(x[i], y[i])))
+                    << "point " << i << " of " << n << ": " << out[i] << " against " << e(x[i], y[i]);
+        }
+    }
 }
 
 TEST(Expression, SyntaxErrorsAreGeometryErrors) {
@@ -222,6 +264,59 @@ TEST(SizeField, InvalidValuesNameThePoint) {
     EXPECT_EQ(size_field_error(spec, d).kind(), GeometryErrorKind::DensityInvalid);
     spec.size = NAN;
     EXPECT_EQ(size_field_error(spec, d).kind(), GeometryErrorKind::DensityInvalid);
+}
+
+// The field over an array of points (the figures' batches) gives each point interior()'s
+// value to the bit, clamps and the gradation's cones included, and refuses an invalid value
+// as interior() does, naming the first point that has one.
+TEST(SizeField, AnArrayOfPointsGetsEachPointsOwnSize) {
+    const Domain d = build_domain(unit_square());
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<Vec2> at;
+    for (int i = 0; i < 700; ++i) at.push_back({u(rng), u(rng)});
+    for (const bool graded : {false, true}) {
+        DensitySpec spec;
+        spec.size = std::string("x < 0.5 ? 0.01 + 0.3*sqrt(x^2+y^2) : 0.2*y + 0.005");
+        spec.min = 0.02;
+        spec.max = 0.25;
+        if (graded) spec.gradation = 1.2;
+        SizeField f(spec, d);
+        if (graded) {
+            const Discretisation b = discretise_boundary(d, f);
+            set_gradation_sources(f, b, triangulate_boundary(b), 1000000);
+            ASSERT_TRUE(f.gradation());
+        }
+        std::vector<double> out(at.size());
+        f.interior(at.data(), at.size(), out.data());
+        size_t graded_below = 0;
+        for (size_t i = 0; i < at.size(); ++i) {
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(out[i]), std::bit_cast<std::uint64_t>(f.interior(at[i]))) << i;
+            const Vec2 p = at[i];
+            const double raw = std::clamp(p.x < 0.5 ? 0.01 + 0.3 * std::sqrt(p.x * p.x + p.y * p.y) : 0.2 * p.y + 0.005, 0.02, 0.25);
+            if (graded) {
+                graded_below += out[i] < raw ? 1 : 0;
+            } else {
+                EXPECT_NEAR(out[i], raw, 1e-15);
+            }
+        }
+        if (graded) {
+            EXPECT_GT(graded_below, 0u);  // the cones were applied
+        }
+    }
+    DensitySpec bad;
+    bad.size = std::string("x - 0.5");
+    SizeField g(bad, d);
+    const std::vector<Vec2> some{{0.75, 0.5}, {0.6, 0.1}, {0.25, 0.5}, {0.1, 0.5}};
+    std::vector<double> out(some.size());
+    try {
+        g.interior(some.data(), some.size(), out.data());
+        ADD_FAILURE() << "a negative size accepted";
+    } catch (const GeometryError& e) {
+        EXPECT_EQ(e.kind(), GeometryErrorKind::DensityInvalid);
+        ASSERT_NE(e.where(), nullptr);
+        EXPECT_EQ(e.where()->x, 0.25);
+    }
 }
 
 TEST(SizeField, SpecErrors) {

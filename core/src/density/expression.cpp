@@ -13,6 +13,7 @@
 //   power   := primary ( '^' unary )?             so 2^3^2 = 2^9 and 2^-1 = 0.5
 //   primary := number | x | y | _pi | _e | name '(' ternary (',' ternary)* ')' | '(' ternary ')'
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -38,7 +39,8 @@ enum class Op : std::uint8_t {
     Min, Max,
     Call1, Call2,
     JumpIfZero, Jump,
-    Sqrt,  // a call of sqrt, without the call (made by emit only)
+    Sqrt,    // a call of sqrt, without the call (made by emit only)
+    Select,  // c ? a : b over a batch: both branches computed, one kept per point (batch code only)
 };
 
 using Fn1 = double (*)(double);
@@ -323,9 +325,15 @@ struct Expression::Impl {
     };
     std::string text;
     std::vector<Instr> code;
+    // The same program for batches (run_batch): a conditional computes both branches and
+    // keeps one per point (Select), as a batch cannot jump per point. Empty when its deeper
+    // stack does not fit; batches then run point by point.
+    std::vector<Instr> batch_code;
     int depth = 0;
+    bool selecting = false;  // emit() writes the batch code: conditionals as Select
 
     static constexpr int kMaxStack = 64;
+    static constexpr size_t kBatch = 32;
 
     explicit Impl(std::string t) : text(std::move(t)) {
         std::vector<Node> nodes;
@@ -337,6 +345,17 @@ struct Expression::Impl {
             throw GeometryError(GeometryErrorKind::DensityExpression,
                                 "cannot parse \"" + text + "\": the expression needs more than " +
                                     std::to_string(kMaxStack) + " intermediate values");
+        std::vector<Instr> scalar;
+        scalar.swap(code);
+        const int scalar_depth = depth;
+        depth = 0;
+        sp = 0;
+        selecting = true;
+        emit(nodes, root, sp);
+        if (depth <= kMaxStack) batch_code.swap(code);
+        code.swap(scalar);
+        depth = scalar_depth;
+        selecting = false;
     }
 
     // Constant folding, bottom up; x^2 becomes a square.
@@ -380,6 +399,13 @@ struct Expression::Impl {
                 push({Op::Call2, 0, 0.0, node.fn}, sp, -1);
                 return;
             case kConditional: {
+                if (selecting) {
+                    emit(n, node.a, sp);
+                    emit(n, node.b, sp);
+                    emit(n, node.c, sp);
+                    push({Op::Select}, sp, -2);
+                    return;
+                }
                 emit(n, node.a, sp);
                 const size_t jz = code.size();
                 push({Op::JumpIfZero}, sp, -1);
@@ -409,6 +435,57 @@ struct Expression::Impl {
         emit(n, node.a, sp);
         emit(n, node.b, sp);
         push({node.op}, sp, -1);
+    }
+
+    // run() over n <= kBatch points: each instruction once for all of them.
+    void run_batch(const double* x, const double* y, double* out, size_t n) const {
+        std::array<std::array<double, kBatch>, kMaxStack> st;
+        int sp = -1;
+        auto top = [&](int i) -> double* { return st[static_cast<size_t>(i)].data(); };
+        for (const Instr& in : batch_code) {
+            switch (in.op) {
+                case Op::Const: { double* t = top(++sp); for (size_t i = 0; i < n; ++i) t[i] = in.value; break; }
+                case Op::X: { double* t = top(++sp); for (size_t i = 0; i < n; ++i) t[i] = x[i]; break; }
+                case Op::Y: { double* t = top(++sp); for (size_t i = 0; i < n; ++i) t[i] = y[i]; break; }
+                case Op::Neg: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = -t[i]; break; }
+                case Op::Square: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] *= t[i]; break; }
+                case Op::AddC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] += in.value; break; }
+                case Op::SubC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] -= in.value; break; }
+                case Op::RSubC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = in.value - t[i]; break; }
+                case Op::MulC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] *= in.value; break; }
+                case Op::DivC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] /= in.value; break; }
+                case Op::RDivC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = in.value / t[i]; break; }
+                case Op::Sqrt: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = std::sqrt(t[i]); break; }
+                case Op::Call1: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = in.fn->f1(t[i]); break; }
+                case Op::Call2: {
+                    --sp;
+                    double* t = top(sp);
+                    const double* u = top(sp + 1);
+                    for (size_t i = 0; i < n; ++i) t[i] = in.fn->f2(t[i], u[i]);
+                    break;
+                }
+                case Op::Select: {
+                    sp -= 2;
+                    double* t = top(sp);
+                    const double *yes = top(sp + 1), *no = top(sp + 2);
+                    // As run()'s JumpIfZero: the first branch unless the condition is 0.
+                    for (size_t i = 0; i < n; ++i) t[i] = t[i] == 0.0 ? no[i] : yes[i];
+                    break;
+                }
+                case Op::Add: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] += u[i]; break; }
+                case Op::Sub: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] -= u[i]; break; }
+                case Op::Mul: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] *= u[i]; break; }
+                case Op::Div: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] /= u[i]; break; }
+                default: {
+                    --sp;
+                    double* t = top(sp);
+                    const double* u = top(sp + 1);
+                    for (size_t i = 0; i < n; ++i) t[i] = apply(in.op, t[i], u[i]);
+                    break;
+                }
+            }
+        }
+        for (size_t i = 0; i < n; ++i) out[i] = st[0][i];
     }
 
     double run(double x, double y) const {
@@ -462,6 +539,15 @@ Expression& Expression::operator=(Expression&&) noexcept = default;
 Expression::~Expression() = default;
 
 double Expression::operator()(double x, double y) const { return impl_->run(x, y); }
+
+void Expression::evaluate(const double* x, const double* y, double* out, size_t n) const {
+    if (impl_->batch_code.empty()) {
+        for (size_t i = 0; i < n; ++i) out[i] = impl_->run(x[i], y[i]);
+        return;
+    }
+    for (size_t i = 0; i < n; i += Impl::kBatch)
+        impl_->run_batch(x + i, y + i, out + i, std::min(Impl::kBatch, n - i));
+}
 
 const std::string& Expression::text() const { return impl_->text; }
 

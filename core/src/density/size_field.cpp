@@ -3,6 +3,7 @@
 #include "density/size_field.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "meshd/core/errors.hpp"
@@ -118,7 +119,10 @@ SizeField::SizeField(const DensitySpec& spec, const Domain& domain) {
 }
 
 double SizeField::eval(const Source& s, Vec2 p) const {
-    const double v = s.constant ? *s.constant : (*s.expr)(p.x, p.y);
+    return checked(s, p, s.constant ? *s.constant : (*s.expr)(p.x, p.y));
+}
+
+double SizeField::checked(const Source& s, Vec2 p, double v) const {
     if (!std::isfinite(v) || v <= 0.0) {
         std::string what = std::isfinite(v) ? (v == 0.0 ? "zero" : "negative (" + std::to_string(v) + ")")
                                             : "not finite";
@@ -141,6 +145,25 @@ double SizeField::interior(Vec2 p) const {
     if (!interpolate_) return interior_from(p, eval(sources_[*interior_source_], p));
     MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
     return interior_from(p, std::fmin(std::fmax((*idw_)(p), min_), max_));
+}
+
+void SizeField::interior(const Vec2* p, size_t n, double* out) const {
+    if (interpolate_ || !sources_[*interior_source_].expr) {
+        for (size_t i = 0; i < n; ++i) out[i] = interior(p[i]);
+        return;
+    }
+    const Source& s = sources_[*interior_source_];
+    constexpr size_t kChunk = 256;
+    std::array<double, kChunk> x, y;
+    for (size_t first = 0; first < n; first += kChunk) {
+        const size_t m = std::min(kChunk, n - first);
+        for (size_t i = 0; i < m; ++i) {
+            x[i] = p[first + i].x;
+            y[i] = p[first + i].y;
+        }
+        s.expr->evaluate(x.data(), y.data(), out + first, m);
+        for (size_t i = first; i < first + m; ++i) out[i] = interior_from(p[i], checked(s, p[i], out[i]));
+    }
 }
 
 double SizeField::interior_scattered(Vec2 p) const {

@@ -41,6 +41,9 @@ public:
     /// query cells that interior() builds for runs of nearby queries, which a scattered
     /// query would build for itself alone.
     double interior_scattered(Vec2 p) const;
+    /// out[i] = interior(p[i]) for i < n, to the bit; an expression is evaluated in batches
+    /// (Expression::evaluate). For the figures of a finished mesh.
+    void interior(const Vec2* p, size_t n, double* out) const;
 
     bool interpolates() const { return interpolate_; }
     bool curve_capped() const { return curve_cap_ != nullptr; }
@@ -77,6 +80,7 @@ private:
         Subject subject;  // where it came from, for error messages
     };
     double eval(const Source& s, Vec2 p) const;
+    double checked(const Source& s, Vec2 p, double v) const;  // eval()'s checks of a value v at p
     double interior_from(Vec2 p, double raw) const;
 
     std::vector<std::optional<size_t>> curve_source_;  // per curve: index into sources_

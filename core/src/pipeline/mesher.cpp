@@ -386,7 +386,12 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         for (TriangleId t = 0; t < m.triangles.size(); ++t)
             r.quality.scaled_jacobian_min = std::min(r.quality.scaled_jacobian_min, min_scaled_jacobian(m, t));
     m.target_size.resize(m.point_count());
-    for (VertexId v = 0; v < m.point_count(); ++v) m.target_size[v] = rho.interior(m.point(v));
+    {
+        std::vector<Vec2> at;
+        detail::reserve_filled(at, m.point_count());
+        for (VertexId v = 0; v < m.point_count(); ++v) at.push_back(m.point(v));
+        rho.interior(at.data(), at.size(), m.target_size.data());
+    }
     r.timings.total_ms = ms_since(t_start);
     const PredicateCounters pc = predicate_counters();
     r.stats.orient_exact = pc.orient_exact;
