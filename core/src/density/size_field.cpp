@@ -122,15 +122,10 @@ double SizeField::eval(const Source& s, Vec2 p) const {
     return checked(s, p, s.constant ? *s.constant : (*s.expr)(p.x, p.y));
 }
 
-double SizeField::checked(const Source& s, Vec2 p, double v) const {
-    if (!std::isfinite(v) || v <= 0.0) {
-        std::string what = std::isfinite(v) ? (v == 0.0 ? "zero" : "negative (" + std::to_string(v) + ")")
-                                            : "not finite";
-        throw GeometryError(GeometryErrorKind::DensityInvalid,
-                            "density is " + what + " at " + fmt_point(p), {s.subject})
-            .at(p);
-    }
-    return std::clamp(v, min_, max_);  // v is a number here, and min_ <= max_
+void SizeField::refuse(const Source& s, Vec2 p, double v) const {
+    std::string what = std::isfinite(v) ? (v == 0.0 ? "zero" : "negative (" + std::to_string(v) + ")") : "not finite";
+    throw GeometryError(GeometryErrorKind::DensityInvalid, "density is " + what + " at " + fmt_point(p), {s.subject})
+        .at(p);
 }
 
 double SizeField::on_curve(CurveId c, Vec2 p) const {
@@ -153,6 +148,7 @@ void SizeField::interior(const Vec2* p, size_t n, double* out) const {
         return;
     }
     const Source& s = sources_[*interior_source_];
+    const bool plain = !graded_ && !interior_cap_ && !cap_;  // interior_from() would keep every value
     constexpr size_t kChunk = 256;
     std::array<double, kChunk> x, y;
     for (size_t first = 0; first < n; first += kChunk) {
@@ -162,7 +158,10 @@ void SizeField::interior(const Vec2* p, size_t n, double* out) const {
             y[i] = p[first + i].y;
         }
         s.expr->evaluate(x.data(), y.data(), out + first, m);
-        for (size_t i = first; i < first + m; ++i) out[i] = interior_from(p[i], checked(s, p[i], out[i]));
+        for (size_t i = first; i < first + m; ++i) {
+            const double v = checked(s, p[i], out[i]);
+            out[i] = plain ? v : interior_from(p[i], v);
+        }
     }
 }
 

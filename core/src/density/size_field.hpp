@@ -3,6 +3,8 @@
 // curve, tag and inside; clamps) completed by the pipeline with the sources of eq. 6.1 and
 // the gradation envelope.
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -80,7 +82,13 @@ private:
         Subject subject;  // where it came from, for error messages
     };
     double eval(const Source& s, Vec2 p) const;
-    double checked(const Source& s, Vec2 p, double v) const;  // eval()'s checks of a value v at p
+    // eval()'s checks of a value v at p, and its clamps.
+    double checked(const Source& s, Vec2 p, double v) const {
+        if (!(std::isfinite(v) && v > 0.0)) [[unlikely]]
+            refuse(s, p, v);
+        return std::clamp(v, min_, max_);  // v is a number here, and min_ <= max_
+    }
+    [[noreturn]] void refuse(const Source& s, Vec2 p, double v) const;
     double interior_from(Vec2 p, double raw) const;
 
     std::vector<std::optional<size_t>> curve_source_;  // per curve: index into sources_
