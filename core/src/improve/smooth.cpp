@@ -129,10 +129,8 @@ public:
                 if (!active[v] || !laplace(v)) continue;
                 ++moved;
                 next[v] = 1;
-                for (auto e = offset_[v]; e < offset_[v + 1]; ++e) {
-                    const std::uint32_t w = opposite_[e][0];
-                    if (m_.kind[w] == PointKind::Interior) next[w] = 1;
-                }
+                // Every neighbour: one that is not interior has no pairs, and laplace() leaves it.
+                for (auto e = offset_[v]; e < offset_[v + 1]; ++e) next[opposite_[e][0]] = 1;
             }
             moves += moved;
             if (moved == 0) break;

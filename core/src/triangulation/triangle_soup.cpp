@@ -12,11 +12,6 @@ namespace meshd::core {
 
 namespace detail {
 
-std::uint32_t TriangleSoup::back_index(TriangleId u, TriangleId t) const {
-    const Triangle& tu = t_[u];
-    return tu.n[0] == t ? 0u : (tu.n[1] == t ? 1u : 2u);
-}
-
 void TriangleSoup::set_flag(TriangleId t, std::uint32_t i, bool constrained, bool boundary) {
     auto set = [&](TriangleId tt, std::uint32_t ii) {
         const std::uint8_t bit = static_cast<std::uint8_t>(1u << ii);
@@ -74,16 +69,10 @@ void TriangleSoup::flip(TriangleId t, std::uint32_t i) {
     }
 }
 
-bool TriangleSoup::illegal(TriangleId t, std::uint32_t i) const {
-    const Triangle& T = t_[t];
-    const TriangleId u = T.n[i];
-    if (u == kNoTriangle || edge_bit(T.constrained, i)) return false;
-    const std::uint32_t q = t_[u].v[back_index(u, t)];
-    const Vec2 a = pts_[T.v[0]], b = pts_[T.v[1]], c = pts_[T.v[2]], d = pts_[q];
-    const int s = incircle(a, b, c, d);
-    if (s != 0) return s > 0;
+bool TriangleSoup::cocircular_illegal(const Triangle& T, std::uint32_t q) const {
     auto rank = [&](std::uint32_t v) { return rank_ ? rank_[v] : v; };
-    return detail::incircle_tie(a, b, c, d, rank(T.v[0]), rank(T.v[1]), rank(T.v[2]), rank(q)) > 0;
+    return detail::incircle_tie(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]], pts_[q], rank(T.v[0]), rank(T.v[1]),
+                                rank(T.v[2]), rank(q)) > 0;
 }
 
 template <bool kInsertion>
