@@ -151,6 +151,29 @@ namespace detail {
 
 Orientation orient2d_exact(Vec2 a, Vec2 b, Vec2 c) {
     ++counters.orient_exact;
+    // When the four differences are exact (points on a line parallel to an axis, on a common
+    // grid: most of the filter's failures, on a domain's straight sides), the determinant is
+    // the difference of two products that two_product makes exact: their rounded values
+    // order them (rounding is monotone), and where those tie, their rounding errors do.
+    // Differences of 0, or between 2^-450 and 2^500 in magnitude, keep the errors exact.
+    double acx, acy, bcx, bcy, tail;
+    bool exact = true;
+    auto difference = [&](double x, double y, double& d) {
+        two_sum(x, -y, d, tail);
+        const double m = std::fabs(d);
+        exact = exact && tail == 0.0 && (m == 0.0 || (m >= 0x1p-450 && m <= 0x1p500));
+    };
+    difference(a.x, c.x, acx);
+    difference(a.y, c.y, acy);
+    difference(b.x, c.x, bcx);
+    difference(b.y, c.y, bcy);
+    if (exact) {
+        double p1, e1, p2, e2;
+        two_product(acx, bcy, p1, e1);
+        two_product(acy, bcx, p2, e2);
+        if (p1 != p2) return p1 > p2 ? Orientation::Left : Orientation::Right;
+        return e1 > e2 ? Orientation::Left : (e1 < e2 ? Orientation::Right : Orientation::Collinear);
+    }
     return static_cast<Orientation>(orient_expansion(a, b, c));
 }
 
