@@ -42,23 +42,29 @@ void TriangleSoup::flip(TriangleId t, std::uint32_t i) {
     const TriangleId n_cp = T.n[next3(i)];   // across (c, p), opposite b in t
     const TriangleId n_bq = U.n[next3(j)];   // across (b, q), opposite c in u
     const TriangleId n_qc = U.n[prev3(j)];   // across (q, c), opposite b in u
-    const std::uint32_t cons_t = T.constrained, bnd_t = T.boundary;
-    const std::uint32_t cons_u = U.constrained, bnd_u = U.boundary;
-    auto bit = [](std::uint32_t flags, std::uint32_t k) { return (flags >> k) & 1u; };
-    const std::uint32_t c_pb = bit(cons_t, prev3(i)), b_pb = bit(bnd_t, prev3(i));
-    const std::uint32_t c_cp = bit(cons_t, next3(i)), b_cp = bit(bnd_t, next3(i));
-    const std::uint32_t c_bq = bit(cons_u, next3(j)), b_bq = bit(bnd_u, next3(j));
-    const std::uint32_t c_qc = bit(cons_u, prev3(j)), b_qc = bit(bnd_u, prev3(j));
+    // The edge flags with both flag bytes of a triangle in one word (constrained in bits 0-2,
+    // boundary in 8-10: far enough apart that the turn moves no bit into the other group),
+    // turned so that edge i of t (j of u) is bit 0: then bit 1 is the edge after it and bit 2
+    // the one before.
+    auto turned = [](const Triangle& x, std::uint32_t k) {
+        const std::uint32_t f = x.constrained | (static_cast<std::uint32_t>(x.boundary) << 8);
+        return ((f >> k) | (f << (3 - k))) & 0x707u;
+    };
+    const std::uint32_t ft = turned(T, i), fu = turned(U, j);
     // t = (p, b, q): opp p (b,q) -> n_bq; opp b (q,p) -> u; opp q (p,b) -> n_pb.
+    // Its edge 0 is u's next3(j) (bit 1 of fu), its edge 2 t's prev3(i) (bit 2 of ft).
+    const std::uint32_t new_t = ((fu >> 1) & 0x101u) | (ft & 0x404u);
+    // u = (p, q, c): opp p (q,c) -> n_qc; opp q (c,p) -> n_cp; opp c (p,q) -> t.
+    // Its edge 0 is u's prev3(j) (bit 2 of fu), its edge 1 t's next3(i) (bit 1 of ft).
+    const std::uint32_t new_u = ((fu >> 2) & 0x101u) | (ft & 0x202u);
     T.v = {p, b, q};
     T.n = {n_bq, u, n_pb};
-    T.constrained = static_cast<std::uint8_t>(c_bq | (c_pb << 2));
-    T.boundary = static_cast<std::uint8_t>(b_bq | (b_pb << 2));
-    // u = (p, q, c): opp p (q,c) -> n_qc; opp q (c,p) -> n_cp; opp c (p,q) -> t.
+    T.constrained = static_cast<std::uint8_t>(new_t & 7u);
+    T.boundary = static_cast<std::uint8_t>(new_t >> 8);
     U.v = {p, q, c};
     U.n = {n_qc, n_cp, t};
-    U.constrained = static_cast<std::uint8_t>(c_qc | (c_cp << 1));
-    U.boundary = static_cast<std::uint8_t>(b_qc | (b_cp << 1));
+    U.constrained = static_cast<std::uint8_t>(new_u & 7u);
+    U.boundary = static_cast<std::uint8_t>(new_u >> 8);
     if (n_bq != kNoTriangle) t_[n_bq].n[back_index(n_bq, u)] = t;
     if (n_cp != kNoTriangle) t_[n_cp].n[back_index(n_cp, t)] = u;
     if (track_) {
