@@ -355,8 +355,11 @@ private:
         // Paths from A and B to C must stay in the domain (this also decides C is inside).
         const TriangleId ta = start_of(seg.a, c);
         const TriangleId home_c = ta == kNoTriangle ? kNoTriangle : inside(ta, a, c);
-        const TriangleId tb = home_c == kNoTriangle ? kNoTriangle : start_of(seg.b, c);
-        if (home_c == kNoTriangle || tb == kNoTriangle || inside(tb, b, c) == kNoTriangle) {
+        // An interior B in the triangle that holds C: BC lies in that (convex) triangle, and
+        // the walk from B would end there at its first step.
+        const bool b_beside = seg.b >= boundary_count_ && home_c != kNoTriangle && home_[seg.b] == home_c;
+        const TriangleId tb = home_c == kNoTriangle || b_beside ? home_c : start_of(seg.b, c);
+        if (home_c == kNoTriangle || tb == kNoTriangle || (!b_beside && inside(tb, b, c) == kNoTriangle)) {
             ++stats_.rejected_outside;
             front_[s].alive = false;
             return;
