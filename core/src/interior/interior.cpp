@@ -25,9 +25,8 @@ using detail::prev3;
 
 // The points' grid holds copies of the coordinates and sizes (a proximity test reads one
 // chain entry and nothing else); the segments' grid holds front segment indices (copies
-// made its entries ten times larger and the stage twice slower). The crossing test tells the
-// points A and B of the tested segment by their coordinates: no two points of the front
-// coincide.
+// made its entries ten times larger and the stage twice slower). Both tests tell the points
+// A and B of the tested segment by their ids.
 struct GridPoint {
     Vec2 p;
     double rho;
