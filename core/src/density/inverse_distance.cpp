@@ -92,14 +92,14 @@ struct NearSums {
         const __m128d px = _mm_set1_pd(p.x), py = _mm_set1_pd(p.y);
         const __m128 one = _mm_set1_ps(1.0f), low = _mm_set1_ps(std::numeric_limits<float>::min()),
                      high = _mm_set1_ps(std::numeric_limits<float>::max());
-        for (size_t i = b; i < e; i += 4) {
+        // Four sources a step; the lanes past e of the last step (1 to 3 sources left) are
+        // masked out.
+        auto step = [&](size_t i, __m128 valid) {
             const __m128d dx0 = _mm_sub_pd(px, _mm_loadu_pd(x + i)), dy0 = _mm_sub_pd(py, _mm_loadu_pd(y + i));
             const __m128d dx1 = _mm_sub_pd(px, _mm_loadu_pd(x + i + 2)), dy1 = _mm_sub_pd(py, _mm_loadu_pd(y + i + 2));
             const __m128d d0 = _mm_add_pd(_mm_mul_pd(dx0, dx0), _mm_mul_pd(dy0, dy0));
             const __m128d d1 = _mm_add_pd(_mm_mul_pd(dx1, dx1), _mm_mul_pd(dy1, dy1));
             const __m128 d = _mm_movelh_ps(_mm_cvtpd_ps(d0), _mm_cvtpd_ps(d1));
-            const size_t left = e - i;
-            const __m128 valid = _mm_castsi128_ps(_mm_set_epi32(left > 3 ? -1 : 0, left > 2 ? -1 : 0, left > 1 ? -1 : 0, -1));
             out = _mm_or_ps(out, _mm_and_ps(valid, _mm_or_ps(_mm_cmplt_ps(d, low), _mm_cmpgt_ps(d, high))));
             const __m128 w = _mm_and_ps(valid, _mm_div_ps(one, _mm_sqrt_ps(d)));
             const __m128d w0 = _mm_cvtps_pd(w), w1 = _mm_cvtps_pd(_mm_movehl_ps(w, w));
@@ -107,6 +107,13 @@ struct NearSums {
             den1 = _mm_add_pd(den1, w1);
             num0 = _mm_add_pd(num0, _mm_mul_pd(_mm_loadu_pd(r + i), w0));
             num1 = _mm_add_pd(num1, _mm_mul_pd(_mm_loadu_pd(r + i + 2), w1));
+        };
+        const __m128 all = _mm_castsi128_ps(_mm_set1_epi32(-1));
+        size_t i = b;
+        for (; i + 4 <= e; i += 4) step(i, all);
+        if (i < e) {
+            const size_t left = e - i;
+            step(i, _mm_castsi128_ps(_mm_set_epi32(0, left > 2 ? -1 : 0, left > 1 ? -1 : 0, -1)));
         }
     }
     bool sums(double& num, double& den) const {
