@@ -51,11 +51,12 @@ double GradationField::search(Vec2 x, double upper) const {
             }
             return detail::Descend::No;
         }
-        // The nearer child first: its cones lower `best` sooner.
+        // The nearer child first: its cones lower `best` sooner. (Squared distances: the
+        // order only changes how soon `best` falls, never the least cone found.)
         const Node& l = nodes_[n.left];
         const Node& r = nodes_[n.right];
-        const double dl = distance(x, 0.5 * (l.box.lo + l.box.hi));
-        const double dr = distance(x, 0.5 * (r.box.lo + r.box.hi));
+        const double dl = norm2(x - 0.5 * (l.box.lo + l.box.hi));
+        const double dr = norm2(x - 0.5 * (r.box.lo + r.box.hi));
         return dl < dr ? detail::Descend::LeftFirst : detail::Descend::RightFirst;
     });
     return best;
