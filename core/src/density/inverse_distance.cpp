@@ -192,6 +192,46 @@ __attribute__((target("avx"))) bool sum_by_fours_avx(const double* x, const doub
     return true;
 }
 
+// NearSums over the near nodes of a query cell on 256-bit registers: each step's four
+// distances and weights as there, added to four double lanes at once instead of two pairs,
+// lane k taking the same terms in the same order, and the lanes added in the same pairs at
+// the end: the same sums to the bit.
+template <class Node>
+__attribute__((target("avx"))) bool near_sums_avx(const double* x, const double* y, const double* r, const Node* nodes,
+                                                   const std::uint32_t* ids, std::uint32_t first, std::uint32_t last,
+                                                   Vec2 p, double& num, double& den) {
+    const __m256d px = _mm256_set1_pd(p.x), py = _mm256_set1_pd(p.y);
+    const __m128 one = _mm_set1_ps(1.0f), low = _mm_set1_ps(std::numeric_limits<float>::min()),
+                 high = _mm_set1_ps(std::numeric_limits<float>::max());
+    __m256d num4 = _mm256_setzero_pd(), den4 = _mm256_setzero_pd();
+    __m128 out = _mm_setzero_ps();
+    auto step = [&](size_t i, __m128 valid) __attribute__((target("avx"))) {
+        const __m256d dx = _mm256_sub_pd(px, _mm256_loadu_pd(x + i)), dy = _mm256_sub_pd(py, _mm256_loadu_pd(y + i));
+        const __m128 d = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
+        out = _mm_or_ps(out, _mm_and_ps(valid, _mm_or_ps(_mm_cmplt_ps(d, low), _mm_cmpgt_ps(d, high))));
+        const __m256d w = _mm256_cvtps_pd(_mm_and_ps(valid, _mm_div_ps(one, _mm_sqrt_ps(d))));
+        den4 = _mm256_add_pd(den4, w);
+        num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i), w));
+    };
+    const __m128 all = _mm_castsi128_ps(_mm_set1_epi32(-1));
+    for (std::uint32_t j = first; j < last; ++j) {
+        const size_t e = nodes[ids[j]].end;
+        size_t i = nodes[ids[j]].begin;
+        for (; i + 4 <= e; i += 4) step(i, all);
+        if (i < e) {
+            const size_t left = e - i;
+            step(i, _mm_castsi128_ps(_mm_set_epi32(0, left > 2 ? -1 : 0, left > 1 ? -1 : 0, -1)));
+        }
+    }
+    if (_mm_movemask_ps(out) != 0) return false;
+    alignas(16) double lanes[2];
+    _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(num4), _mm256_extractf128_pd(num4, 1)));
+    num = lanes[0] + lanes[1];
+    _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(den4), _mm256_extractf128_pd(den4, 1)));
+    den = lanes[0] + lanes[1];
+    return true;
+}
+
 // (A static initialiser may run before libgcc's own: __builtin_cpu_init first.)
 bool has_avx() {
     __builtin_cpu_init();
@@ -411,13 +451,22 @@ double InverseDistanceField::through_cells(Vec2 p) const {
     const double dx = p.x - c.centre.x, dy = p.y - c.centre.y;
     double num = cubic(c.num, dx, dy), den = cubic(c.den, dx, dy);
 #if defined(__SSE2__)
-    NearSums near;
-    for (std::uint32_t j = c.near_begin; j < c.near_end; ++j) {
-        const Node& n = nodes_[near_nodes_[j]];
-        near.add(x_.data(), y_.data(), rho_.data(), n.begin, n.end, p);
-    }
     double near_num, near_den;
-    if (near.sums(near_num, near_den)) return (num + near_num) / (den + near_den);
+#if defined(MESHD_AVX_SUM)
+    if (g_wide.load(std::memory_order_relaxed)) {
+        if (near_sums_avx(x_.data(), y_.data(), rho_.data(), nodes_.data(), near_nodes_.data(), c.near_begin, c.near_end,
+                          p, near_num, near_den))
+            return (num + near_num) / (den + near_den);
+    } else
+#endif
+    {
+        NearSums near;
+        for (std::uint32_t j = c.near_begin; j < c.near_end; ++j) {
+            const Node& n = nodes_[near_nodes_[j]];
+            near.add(x_.data(), y_.data(), rho_.data(), n.begin, n.end, p);
+        }
+        if (near.sums(near_num, near_den)) return (num + near_num) / (den + near_den);
+    }
 #endif
     // In double, one term at a time (p on a source, or without SSE2).
     for (std::uint32_t j = c.near_begin; j < c.near_end; ++j) {
