@@ -143,6 +143,45 @@ bool sum_by_fours_sse2(const double* x, const double* y, const double* r, size_t
 
 
 #if defined(MESHD_AVX_SUM)
+// NearSums on 256-bit registers (AVX): each step's four distances and weights as there, added
+// to four double lanes at once instead of two pairs, lane k taking the same terms in the same
+// order, and the lanes added in the same pairs at the end: the same sums to the bit.
+struct WideSums {
+    __m256d px, py, num4, den4;
+    __m128 one, low, high, out;
+    __attribute__((target("avx"))) explicit WideSums(Vec2 p)
+        : px(_mm256_set1_pd(p.x)), py(_mm256_set1_pd(p.y)), num4(_mm256_setzero_pd()), den4(_mm256_setzero_pd()),
+          one(_mm_set1_ps(1.0f)), low(_mm_set1_ps(std::numeric_limits<float>::min())),
+          high(_mm_set1_ps(std::numeric_limits<float>::max())), out(_mm_setzero_ps()) {}
+    // The sources [i, i + 4) in the lanes of `valid`.
+    __attribute__((target("avx"))) void step(const double* x, const double* y, const double* r, size_t i, __m128 valid) {
+        const __m256d dx = _mm256_sub_pd(px, _mm256_loadu_pd(x + i)), dy = _mm256_sub_pd(py, _mm256_loadu_pd(y + i));
+        const __m128 d = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
+        out = _mm_or_ps(out, _mm_and_ps(valid, _mm_or_ps(_mm_cmplt_ps(d, low), _mm_cmpgt_ps(d, high))));
+        const __m256d w = _mm256_cvtps_pd(_mm_and_ps(valid, _mm_div_ps(one, _mm_sqrt_ps(d))));
+        den4 = _mm256_add_pd(den4, w);
+        num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i), w));
+    }
+    // The sources [b, e), four a step, the last one masked (1 to 3 sources left).
+    __attribute__((target("avx"))) void add(const double* x, const double* y, const double* r, size_t b, size_t e) {
+        size_t i = b;
+        for (; i + 4 <= e; i += 4) step(x, y, r, i, _mm_castsi128_ps(_mm_set1_epi32(-1)));
+        if (i < e) {
+            const size_t left = e - i;
+            step(x, y, r, i, _mm_castsi128_ps(_mm_set_epi32(0, left > 2 ? -1 : 0, left > 1 ? -1 : 0, -1)));
+        }
+    }
+    __attribute__((target("avx"))) bool sums(double& num, double& den) const {
+        if (_mm_movemask_ps(out) != 0) return false;
+        alignas(16) double lanes[2];
+        _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(num4), _mm256_extractf128_pd(num4, 1)));
+        num = lanes[0] + lanes[1];
+        _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(den4), _mm256_extractf128_pd(den4, 1)));
+        den = lanes[0] + lanes[1];
+        return true;
+    }
+};
+
 // sum_by_fours_sse2 on 256-bit registers where the processor has them (AVX): eight sources a
 // step, their weights by one square root and one division of eight floats, added four at a
 // time to the same sums, so that lane k of each sum takes the sources k, k + 4, k + 8, ... in
@@ -152,84 +191,37 @@ bool sum_by_fours_sse2(const double* x, const double* y, const double* r, size_t
 // distance left the floats' normal range.
 __attribute__((target("avx"))) bool sum_by_fours_avx(const double* x, const double* y, const double* r, size_t n,
                                                       Vec2 p, double& num, double& den) {
-    const __m256d px = _mm256_set1_pd(p.x), py = _mm256_set1_pd(p.y);
-    const __m128 one = _mm_set1_ps(1.0f), low = _mm_set1_ps(std::numeric_limits<float>::min()),
-                 high = _mm_set1_ps(std::numeric_limits<float>::max());
-    __m256d num4 = _mm256_setzero_pd(), den4 = _mm256_setzero_pd();
-    __m128 out = _mm_setzero_ps();
+    WideSums s(p);
     size_t i = 0;
     const __m256 one8 = _mm256_set1_ps(1.0f), low8 = _mm256_set1_ps(std::numeric_limits<float>::min()),
                  high8 = _mm256_set1_ps(std::numeric_limits<float>::max());
     __m256 out8 = _mm256_setzero_ps();
     for (; i + 8 <= n; i += 8) {
-        const __m256d dx0 = _mm256_sub_pd(px, _mm256_loadu_pd(x + i)), dy0 = _mm256_sub_pd(py, _mm256_loadu_pd(y + i));
-        const __m256d dx1 = _mm256_sub_pd(px, _mm256_loadu_pd(x + i + 4)), dy1 = _mm256_sub_pd(py, _mm256_loadu_pd(y + i + 4));
+        const __m256d dx0 = _mm256_sub_pd(s.px, _mm256_loadu_pd(x + i)), dy0 = _mm256_sub_pd(s.py, _mm256_loadu_pd(y + i));
+        const __m256d dx1 = _mm256_sub_pd(s.px, _mm256_loadu_pd(x + i + 4)), dy1 = _mm256_sub_pd(s.py, _mm256_loadu_pd(y + i + 4));
         const __m128 d0 = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx0, dx0), _mm256_mul_pd(dy0, dy0)));
         const __m128 d1 = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx1, dx1), _mm256_mul_pd(dy1, dy1)));
         const __m256 d = _mm256_insertf128_ps(_mm256_castps128_ps256(d0), d1, 1);
         out8 = _mm256_or_ps(out8, _mm256_or_ps(_mm256_cmp_ps(d, low8, _CMP_LT_OQ), _mm256_cmp_ps(d, high8, _CMP_GT_OQ)));
         const __m256 w = _mm256_div_ps(one8, _mm256_sqrt_ps(d));
         const __m256d w0 = _mm256_cvtps_pd(_mm256_castps256_ps128(w)), w1 = _mm256_cvtps_pd(_mm256_extractf128_ps(w, 1));
-        den4 = _mm256_add_pd(den4, w0);
-        num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i), w0));
-        den4 = _mm256_add_pd(den4, w1);
-        num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i + 4), w1));
+        s.den4 = _mm256_add_pd(s.den4, w0);
+        s.num4 = _mm256_add_pd(s.num4, _mm256_mul_pd(_mm256_loadu_pd(r + i), w0));
+        s.den4 = _mm256_add_pd(s.den4, w1);
+        s.num4 = _mm256_add_pd(s.num4, _mm256_mul_pd(_mm256_loadu_pd(r + i + 4), w1));
     }
-    for (; i + 4 <= n; i += 4) {
-        const __m256d dx = _mm256_sub_pd(px, _mm256_loadu_pd(x + i)), dy = _mm256_sub_pd(py, _mm256_loadu_pd(y + i));
-        const __m128 d = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
-        out = _mm_or_ps(out, _mm_or_ps(_mm_cmplt_ps(d, low), _mm_cmpgt_ps(d, high)));
-        const __m256d w = _mm256_cvtps_pd(_mm_div_ps(one, _mm_sqrt_ps(d)));
-        den4 = _mm256_add_pd(den4, w);
-        num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i), w));
-    }
-    if (_mm256_movemask_ps(out8) != 0 || _mm_movemask_ps(out) != 0) return false;
-    alignas(16) double lanes[2];
-    _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(num4), _mm256_extractf128_pd(num4, 1)));
-    num = lanes[0] + lanes[1];
-    _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(den4), _mm256_extractf128_pd(den4, 1)));
-    den = lanes[0] + lanes[1];
-    return true;
+    s.add(x, y, r, i, n & ~size_t{3});
+    return _mm256_movemask_ps(out8) == 0 && s.sums(num, den);
 }
 
-// NearSums over the near nodes of a query cell on 256-bit registers: each step's four
-// distances and weights as there, added to four double lanes at once instead of two pairs,
-// lane k taking the same terms in the same order, and the lanes added in the same pairs at
-// the end: the same sums to the bit.
+// The near sums of a query cell (NearSums over its near nodes) on 256-bit registers.
 template <class Node>
 __attribute__((target("avx"))) bool near_sums_avx(const double* x, const double* y, const double* r, const Node* nodes,
                                                    const std::uint32_t* ids, std::uint32_t first, std::uint32_t last,
                                                    Vec2 p, double& num, double& den) {
-    const __m256d px = _mm256_set1_pd(p.x), py = _mm256_set1_pd(p.y);
-    const __m128 one = _mm_set1_ps(1.0f), low = _mm_set1_ps(std::numeric_limits<float>::min()),
-                 high = _mm_set1_ps(std::numeric_limits<float>::max());
-    __m256d num4 = _mm256_setzero_pd(), den4 = _mm256_setzero_pd();
-    __m128 out = _mm_setzero_ps();
-    auto step = [&](size_t i, __m128 valid) __attribute__((target("avx"))) {
-        const __m256d dx = _mm256_sub_pd(px, _mm256_loadu_pd(x + i)), dy = _mm256_sub_pd(py, _mm256_loadu_pd(y + i));
-        const __m128 d = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
-        out = _mm_or_ps(out, _mm_and_ps(valid, _mm_or_ps(_mm_cmplt_ps(d, low), _mm_cmpgt_ps(d, high))));
-        const __m256d w = _mm256_cvtps_pd(_mm_and_ps(valid, _mm_div_ps(one, _mm_sqrt_ps(d))));
-        den4 = _mm256_add_pd(den4, w);
-        num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i), w));
-    };
-    const __m128 all = _mm_castsi128_ps(_mm_set1_epi32(-1));
-    for (std::uint32_t j = first; j < last; ++j) {
-        const size_t e = nodes[ids[j]].end;
-        size_t i = nodes[ids[j]].begin;
-        for (; i + 4 <= e; i += 4) step(i, all);
-        if (i < e) {
-            const size_t left = e - i;
-            step(i, _mm_castsi128_ps(_mm_set_epi32(0, left > 2 ? -1 : 0, left > 1 ? -1 : 0, -1)));
-        }
-    }
-    if (_mm_movemask_ps(out) != 0) return false;
-    alignas(16) double lanes[2];
-    _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(num4), _mm256_extractf128_pd(num4, 1)));
-    num = lanes[0] + lanes[1];
-    _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(den4), _mm256_extractf128_pd(den4, 1)));
-    den = lanes[0] + lanes[1];
-    return true;
+    WideSums s(p);
+    for (std::uint32_t j = first; j < last; ++j) s.add(x, y, r, nodes[ids[j]].begin, nodes[ids[j]].end);
+    return s.sums(num, den);
 }
 
 // (A static initialiser may run before libgcc's own: __builtin_cpu_init first.)
