@@ -80,6 +80,11 @@ const double* add_terms(const double* x, const double* y, const double* r, size_
 }
 
 #if defined(__SSE2__)
+// The lanes of a last step of four that hold one of the `left` (1 to 3) sources left.
+inline __m128 first_lanes(size_t left) {
+    return _mm_castsi128_ps(_mm_set_epi32(0, left > 2 ? -1 : 0, left > 1 ? -1 : 0, -1));
+}
+
 // Sums of the weights of sources [b, e) at p in two pairs of lanes, four sources a step, the
 // last step's lanes past e masked to zero (the cells' near sums: the arrays hold three entries
 // past the last source; one code for every processor, as a cell sums a few short ranges,
@@ -111,10 +116,7 @@ struct NearSums {
         const __m128 all = _mm_castsi128_ps(_mm_set1_epi32(-1));
         size_t i = b;
         for (; i + 4 <= e; i += 4) step(i, all);
-        if (i < e) {
-            const size_t left = e - i;
-            step(i, _mm_castsi128_ps(_mm_set_epi32(0, left > 2 ? -1 : 0, left > 1 ? -1 : 0, -1)));
-        }
+        if (i < e) step(i, first_lanes(e - i));
     }
     bool sums(double& num, double& den) const {
         if (_mm_movemask_ps(out) != 0) return false;
@@ -166,10 +168,7 @@ struct WideSums {
     __attribute__((target("avx"))) void add(const double* x, const double* y, const double* r, size_t b, size_t e) {
         size_t i = b;
         for (; i + 4 <= e; i += 4) step(x, y, r, i, _mm_castsi128_ps(_mm_set1_epi32(-1)));
-        if (i < e) {
-            const size_t left = e - i;
-            step(x, y, r, i, _mm_castsi128_ps(_mm_set_epi32(0, left > 2 ? -1 : 0, left > 1 ? -1 : 0, -1)));
-        }
+        if (i < e) step(x, y, r, i, first_lanes(e - i));
     }
     __attribute__((target("avx"))) bool sums(double& num, double& den) const {
         if (_mm_movemask_ps(out) != 0) return false;
