@@ -17,6 +17,8 @@ packages=(
   openfoam
   # the browser the web page's tests drive (tests/web, puppeteer-core from npm)
   chromium
+  # older and other x86-64 processors, emulated (tests/build: the build's instruction set)
+  qemu-user
   # the fuzz harnesses (scripts/fuzz.sh): Clang with libFuzzer and its sanitizer runtimes
   clang-16 libfuzzer-16-dev libclang-rt-16-dev
 )

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <numbers>
 #include <optional>
 #include <unordered_map>
@@ -29,6 +31,23 @@
 namespace meshd::core {
 
 namespace {
+
+#if defined(MESHD_X86_LEVEL) && defined(__x86_64__) && !defined(__clang__)
+// A build for an x86-64 level (CMakeLists.txt, MESHD_ARCH) on a processor without it would
+// stop with SIGILL at the first instruction of that level, wherever that is. This runs before
+// the program's own initialisers (priority 101; the shared libraries' run earlier and are
+// built for the baseline) and is itself compiled for the baseline, so such a processor gets a
+// sentence and exit status 70 instead. (GCC's builtin knows the levels by name; Clang 16's
+// does not, and the Clang builds, the fuzzers, run where they are built.)
+__attribute__((constructor(101), target("arch=x86-64"))) void refuse_a_processor_below_the_build() {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports(MESHD_X86_LEVEL)) return;
+    std::fputs("meshd: this program was built for " MESHD_X86_LEVEL
+               " processors and this processor is older; build it with -DMESHD_ARCH=x86-64\n",
+               stderr);
+    std::_Exit(70);
+}
+#endif
 
 using Clock = std::chrono::steady_clock;
 
