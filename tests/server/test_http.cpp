@@ -255,6 +255,37 @@ TEST_P(Http, BrowsersGetGzipNotBrotliAndSizesOnRequest) {
     }
 }
 
+// Small meshes are answered whole, with a Content-Length; large ones stream in chunks, so that
+// no answer needs its whole text in memory (the server answers up to 100,000 triangles whole).
+// Either way the bytes are those of the CLI's file for the same request.
+TEST_P(Http, SmallAnswersComeWholeAndLargeOnesStreamBothAsTheCliWrites) {
+    auto server = serve({});
+    auto c = client(*server);
+    // The unit square at size h has about 2.3 / h^2 triangles: some 900 at 0.05, 144,000 at 0.004.
+    for (const auto& [size, whole] : {std::pair{"0.05", true}, std::pair{"0.004", false}}) {
+        const std::string request = std::string(R"({"geometry": {"points": {"A": [0, 0], "B": [1, 0], "C": [1, 1], "D": [0, 1]},
+            "curves": {"s": {"type": "line", "from": "A", "to": "B"}, "e": {"type": "line", "from": "B", "to": "C"},
+                       "n": {"type": "line", "from": "C", "to": "D"}, "w": {"type": "line", "from": "D", "to": "A"}},
+            "loops": [["s", "e", "n", "w"]]}, "density": {"size": )") + size + "}}";
+        auto r = c.Post("/v1/meshes?format=msh", request, "application/json");
+        ASSERT_TRUE(r) << size;
+        ASSERT_EQ(r->status, 200) << size << ": " << r->body;
+        if (whole) {
+            EXPECT_EQ(r->get_header_value("Transfer-Encoding"), "") << size;
+            EXPECT_EQ(r->get_header_value("Content-Length"), std::to_string(r->body.size())) << size;
+        } else {
+            EXPECT_EQ(r->get_header_value("Transfer-Encoding"), "chunked") << size;
+            EXPECT_FALSE(r->has_header("Content-Length")) << size;
+        }
+        const std::string in = ::testing::TempDir() + "/square_" + std::to_string(getpid()) + "_" + size + ".json";
+        const std::string out = in + ".msh";
+        std::ofstream(in) << request;
+        const std::string cmd = std::string(MESHD_CLI_BINARY) + " " + in + " -q -o " + out;
+        ASSERT_EQ(std::system(cmd.c_str()), 0) << size;
+        EXPECT_TRUE(r->body == read_file(out)) << size << ": the answer is not the CLI's file";
+    }
+}
+
 TEST_P(Http, AsyncLifeCycle) {
     auto server = serve({});
     ServerProcess& s = *server;
