@@ -3,7 +3,8 @@
 // advancing-front triangulator, and the crossing search of kernel/crossings.cpp.
 //
 // An object of size s belongs to class k = floor(log2(L / s)) (L: the domain extent), so
-// c_k = L 2^-k is in [s, 2s). The grid of class k has cells of 2 c_k. Points and segments
+// c_k = L 2^-k is in [s, 2s). The grid of class k has cells of 2 c_k (or as many c_k as its
+// user asks). Points and segments
 // are entered once, in the grid of their class; a query from a place of size s looks in the
 // grids of a few classes around its own (see the users), where objects of comparable size
 // are found within one or two cells. Objects much finer or coarser than the
@@ -196,9 +197,10 @@ using CellMap = CellGrid<std::uint32_t>;
 
 class SizeClasses {
 public:
-    SizeClasses(Vec2 origin, double extent) : origin_(origin), extent_(extent) {
+    /// `cells`: the cells' width in c_k (2 unless told).
+    SizeClasses(Vec2 origin, double extent, double cells = 2.0) : origin_(origin), extent_(extent) {
         for (int k = 0; k <= kMax; ++k) {
-            cell_[static_cast<size_t>(k)] = 2.0 * std::ldexp(extent, -k);
+            cell_[static_cast<size_t>(k)] = cells * std::ldexp(extent, -k);
             inv_cell_[static_cast<size_t>(k)] = 1.0 / cell_[static_cast<size_t>(k)];
         }
     }
