@@ -4,12 +4,12 @@
 //
 // An object of size s belongs to class k = floor(log2(L / s)) (L: the domain extent), so
 // c_k = L 2^-k is in [s, 2s). The grid of class k has cells of 2 c_k (or as many c_k as its
-// user asks). Points and segments
-// are entered once, in the grid of their class; a query from a place of size s looks in the
-// grids of a few classes around its own (see the users), where objects of comparable size
-// are found within one or two cells. Objects much finer or coarser than the
-// query are not seen: with densities that change by less than a factor 4 over one element
-// this is exact, and otherwise the proximity and crossing tests err on the permissive side.
+// user asks). Points and segments are entered once, in the grid of their class; a query
+// from a place of size s looks in the grids of a few classes around its own (see the users),
+// where objects of comparable size are found within one or two cells. Objects much finer or
+// coarser than the query are not seen: with densities that change by less than a factor 4
+// over one element this is exact, and otherwise the proximity and crossing tests err on the
+// permissive side.
 
 #include <algorithm>
 #include <array>
