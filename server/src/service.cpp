@@ -159,6 +159,15 @@ void gzip_only(httplib::Request& req) {
 // `?sizes=true` with format=json: rho at each point too (write_json).
 bool sizes_asked(const httplib::Request& req) { return req.has_param("sizes") && req.get_param_value("sizes") == "true"; }
 
+// The mesh in format f (JSON with rho at each point when `sizes`).
+void write_answer(std::ostream& os, const core::MeshResult& result, api::Format f, const api::FoamOptions& foam,
+                  bool sizes) {
+    if (f == api::Format::Json && sizes)
+        api::write_json(result, os, true);
+    else
+        api::write_mesh(f, result, os, foam);
+}
+
 // Sends the mesh: whole when small, else streamed; past `until` a streamed answer's connection
 // is dropped (the answer is incomplete: a client that reads too slowly cannot hold a thread
 // and the mesh beyond the time limit; a whole answer is bounded by the socket's write timeout).
@@ -171,10 +180,7 @@ void send_mesh(httplib::Response& res, std::shared_ptr<const core::MeshResult> r
         StringBuf buf(kAnswerBytesPerTriangle * (result->mesh.triangles.size() + result->mesh.quads.size()));
         {
             std::ostream os(&buf);
-            if (f == api::Format::Json && sizes)
-                api::write_json(*result, os, true);
-            else
-                api::write_mesh(f, *result, os, foam);
+            write_answer(os, *result, f, foam, sizes);
         }
         res.body = buf.take();  // in place: set_content would copy it
         res.set_header("Content-Type", api::content_type(f));
@@ -185,10 +191,7 @@ void send_mesh(httplib::Response& res, std::shared_ptr<const core::MeshResult> r
         {
             SinkBuf buf(sink, until);
             std::ostream os(&buf);
-            if (f == api::Format::Json && sizes)
-                api::write_json(*result, os, true);
-            else
-                api::write_mesh(f, *result, os, foam);
+            write_answer(os, *result, f, foam, sizes);
             os.flush();
             ok = buf.ok();
             late = buf.late();
