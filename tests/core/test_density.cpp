@@ -421,9 +421,11 @@ TEST(InverseDistance, FewSourcesAreSummedTermByTerm) {
     }
 }
 
-// The sum on 256-bit registers (where the processor has AVX) does the 128-bit sum's operations
-// lane for lane, so fields and meshes do not depend on the machine: the same value to the
-// bit at every query, the same mesh point for point.
+// The sums on 256-bit registers (where the processor has AVX) do the 128-bit and the scalar
+// sums' operations lane for lane, so fields and meshes do not depend on the machine: the same
+// value to the bit at every query, the same mesh point for point. Two fields, each of whose
+// query cells (made as queries come) are made with the sums it is asked with: the near sums
+// and the far polynomials of the cells both compared.
 TEST(InverseDistance, WideAndNarrowSumsAgreeToTheBit) {
     const bool wide = detail::wide_sums(true);
     std::printf("[ info ] 256-bit sums %s on this processor\n", wide ? "in use" : "not available");
@@ -431,16 +433,16 @@ TEST(InverseDistance, WideAndNarrowSumsAgreeToTheBit) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (size_t n : {size_t{4}, size_t{5}, size_t{7}, size_t{150}, size_t{1001}, kDirectSources}) {
         const auto [a, len] = random_sources(n, rng);
-        const InverseDistanceField field(a, len);
+        const InverseDistanceField narrow_field(a, len), wide_field(a, len);
         for (int k = 0; k < 2000; ++k) {
             // Anywhere around the sources, a hair from one of them, or on one.
             const Vec2 p = k % 3 == 0   ? Vec2{3.0 * u(rng) - 1.0, 3.0 * u(rng) - 1.0}
                            : k % 3 == 1 ? a[k % n] + Vec2{1e-9 * u(rng), -1e-9 * u(rng)}
                                         : a[k % n];
             detail::wide_sums(false);
-            const double narrow = field(p);
+            const double narrow = narrow_field(p);
             detail::wide_sums(true);
-            ASSERT_EQ(std::bit_cast<std::uint64_t>(field(p)), std::bit_cast<std::uint64_t>(narrow))
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(wide_field(p)), std::bit_cast<std::uint64_t>(narrow))
                 << n << " sources, query " << k;
         }
     }

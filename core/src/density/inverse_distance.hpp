@@ -30,6 +30,7 @@
 /// parent's near list, not every source, and a cell keeps node numbers, not sources.
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "meshd/core/vec2.hpp"
@@ -112,6 +113,7 @@ private:
     mutable std::vector<Cell> cells_;  // [0]: the root, over the sources' box
     mutable std::vector<std::uint32_t> near_nodes_;
     mutable std::vector<std::uint32_t> open_;  // make_child's stack
+    mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> far_ranges_;  // and its far nodes' sources
     mutable std::uint32_t last_leaf_ = 0;  // the last query's cell (queries come in runs)
 };
 
