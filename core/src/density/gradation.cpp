@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
 
 #include "kernel/kdtree.hpp"
 #include "meshd/core/errors.hpp"
@@ -13,15 +16,23 @@ GradationField::GradationField(std::vector<Vec2> sources, std::vector<double> si
     : slope_(ratio - 1.0) {
     MESHD_INTERNAL_CHECK(sources.size() == sizes.size() && !sources.empty(), "gradation needs sources");
     const detail::KdLayout tree(sources);
-    pts_.reserve(sources.size());
-    h_.reserve(sources.size());
+    x_.reserve(sources.size() + 3);
+    y_.reserve(sources.size() + 3);
+    h_.reserve(sources.size() + 3);
     for (auto i : tree.order) {
-        pts_.push_back(sources[i]);
+        x_.push_back(sources[i].x);
+        y_.push_back(sources[i].y);
         h_.push_back(sizes[i]);
+    }
+    // Three more entries, never the least: a leaf's last step of four reads past its end.
+    for (int k = 0; k < 3; ++k) {
+        x_.push_back(0.0);
+        y_.push_back(0.0);
+        h_.push_back(HUGE_VAL);
     }
     nodes_.reserve(tree.nodes.size());
     for (const detail::KdNode& k : tree.nodes) {
-        Node n{k.box, HUGE_VAL, k.begin, k.end, k.left, k.right};
+        Node n{k.box, 0.5 * (k.box.lo + k.box.hi), HUGE_VAL, k.begin, k.end, k.left, k.right};
         for (std::uint32_t i = k.begin; i < k.end; ++i) n.hmin = std::fmin(n.hmin, h_[i]);
         nodes_.push_back(n);
     }
@@ -32,31 +43,53 @@ double GradationField::capped(Vec2 x, double upper) const {
     // cones' sums): the answer is `upper`, to the bit.
     const double moved = slope_ * distance(x, last_at_);
     if (upper <= last_floor_ - moved - 1e-12 * (std::fabs(last_floor_) + moved)) return upper;
-    // Searched up to twice `upper`: the cones above that are pruned as early as those above
-    // `upper`, and the result is a bound that lasts for the next queries.
-    const double floor = search(x, 2.0 * upper);
+    // Searched up to four times `upper`: the cones above that are pruned as early as those
+    // above `upper`, and the result is a bound that lasts for the next queries (twice `upper`
+    // searched a third more often, for 0.8% more of Fig. 9's instructions; eight times, no fewer).
+    const double floor = search(x, 4.0 * upper);
     last_at_ = x;
     last_floor_ = floor;
     return std::fmin(upper, floor);
 }
+
+// The least of the cones at x of the sources [b, e) and of up to three after them: four a
+// step where the processor has AVX (each cone by the same operations as one at a time, and the
+// least of a set whatever the order). A cone past e is another source's, or an entry at
+// infinity past the last: a value of the envelope's own cones, so the search still ends on
+// the least of them.
+#if defined(__AVX__)
+double GradationField::least_cone(std::uint32_t b, std::uint32_t e, Vec2 x) const {
+    const __m256d px = _mm256_set1_pd(x.x), py = _mm256_set1_pd(x.y), slope = _mm256_set1_pd(slope_);
+    __m256d least = _mm256_set1_pd(HUGE_VAL);
+    for (std::uint32_t i = b; i < e; i += 4) {
+        const __m256d dx = _mm256_sub_pd(px, _mm256_loadu_pd(x_.data() + i));
+        const __m256d dy = _mm256_sub_pd(py, _mm256_loadu_pd(y_.data() + i));
+        const __m256d d = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
+        least = _mm256_min_pd(least, _mm256_add_pd(_mm256_loadu_pd(h_.data() + i), _mm256_mul_pd(slope, d)));
+    }
+    const __m128d two = _mm_min_pd(_mm256_castpd256_pd128(least), _mm256_extractf128_pd(least, 1));
+    return _mm_cvtsd_f64(_mm_min_sd(two, _mm_unpackhi_pd(two, two)));
+}
+#else
+double GradationField::least_cone(std::uint32_t b, std::uint32_t e, Vec2 x) const {
+    double least = HUGE_VAL;
+    for (std::uint32_t i = b; i < e; ++i) least = std::fmin(least, h_[i] + slope_ * distance(x, {x_[i], y_[i]}));
+    return least;
+}
+#endif
 
 double GradationField::search(Vec2 x, double upper) const {
     double best = upper;
     detail::depth_first(nodes_, [&](const Node& n) {
         if (n.hmin + slope_ * std::sqrt(n.box.distance2(x)) >= best) return detail::Descend::No;
         if (n.left == 0) {
-            for (std::uint32_t i = n.begin; i < n.end; ++i) {
-                const double h = h_[i] + slope_ * distance(x, pts_[i]);
-                if (h < best) best = h;
-            }
+            best = std::fmin(best, least_cone(n.begin, n.end, x));
             return detail::Descend::No;
         }
         // The nearer child first: its cones lower `best` sooner. (Squared distances: the
         // order only changes how soon `best` falls, never the least cone found.)
-        const Node& l = nodes_[n.left];
-        const Node& r = nodes_[n.right];
-        const double dl = norm2(x - 0.5 * (l.box.lo + l.box.hi));
-        const double dr = norm2(x - 0.5 * (r.box.lo + r.box.hi));
+        const double dl = norm2(x - nodes_[n.left].mid);
+        const double dr = norm2(x - nodes_[n.right].mid);
         return dl < dr ? detail::Descend::LeftFirst : detail::Descend::RightFirst;
     });
     return best;

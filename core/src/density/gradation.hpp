@@ -38,11 +38,13 @@ private:
 
     struct Node {
         Box box;
+        Vec2 mid;  // the box's centre
         double hmin;
         std::uint32_t begin, end, left, right;
     };
-    std::vector<Vec2> pts_;
-    std::vector<double> h_;
+    double least_cone(std::uint32_t b, std::uint32_t e, Vec2 x) const;
+
+    std::vector<double> x_, y_, h_;  // the sources in tree order (three more entries: least_cone)
     std::vector<Node> nodes_;
     double slope_;
     // The last search: where, and a lower bound of the envelope there.
