@@ -259,9 +259,13 @@ TEST(RandomDomains, AFixedPointsFanGivesUpATriangleItHasNoRoomFor) {
 // for the spoke's length there, but the short arc between the two named points, 1.2 segments
 // under the cap's cone, rounds to one segment 1.9 times the spoke (seed 2539: 21.3 degrees).
 // A corner capped before and still apart is now capped lower by the ratio left over (seeds
-// 2539, 1794, 2106 and 2760: 21.3, 28.6, 26.4 and 28.0 degrees before).
+// 2539, 1794, 2106 and 2760: 21.3, 28.6, 26.4 and 28.0 degrees before), and by a third at
+// least: a hole's side of one segment, 1.51 times the embedded line leaving its end, stayed
+// one segment under a cap lowered by the 6% left over (seed 2478: 29.7 degrees; 2102 with
+// layers: 29.97).
 TEST(RandomDomains, ACornerStillApartAfterItsCapIsCappedLower) {
-    expect_thirty_degrees_without_layers({2539u, 1794u, 2106u, 2760u});
+    expect_thirty_degrees_without_layers({2539u, 1794u, 2106u, 2760u, 2478u});
+    expect_thirty_degrees_with_layers({2102u});
 }
 
 // Two neighbouring segments at a domain point that a triangle of the two alone closes: the

@@ -57,6 +57,9 @@ double field_beside(const SizeField& rho, Vec2 a, Vec2 b, bool embedded, Vec2 at
 
 // A domain point whose curves' first segments disagree: the size to cap the curves at there,
 // and by how much the segments there exceed what is asked (> 1).
+// A corner capped before and still apart is capped at least this many times lower.
+constexpr double kCornerCapStep = 1.5;
+
 struct CornerCap {
     VertexId v;
     double size, excess;
@@ -301,9 +304,12 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
                     // rounded its count of segments down (an arc of 1.2 segments between a
                     // spoke's foot and the circle's start point, placed as one 1.9 times the
                     // spoke's length: 21 degrees, seed 2539 of the random domains). The cap
-                    // is lowered by the ratio left over.
-                    size = it->second / c.excess;
-                    if (!(size < 0.9 * it->second)) continue;
+                    // is lowered by the ratio left over, and by a third at least: a ratio
+                    // left over of a few percent moved nothing, as a curve of one segment
+                    // rounds up to two only under a cone well below its length (a hole's side
+                    // of one segment 1.51 times the embedded line leaving its end: 29.7
+                    // degrees, seed 2478).
+                    size = it->second / std::fmax(c.excess, kCornerCapStep);
                 }
                 it->second = std::fmin(it->second, size);
                 caps.push_back(p);
