@@ -55,11 +55,11 @@ double field_beside(const SizeField& rho, Vec2 a, Vec2 b, bool embedded, Vec2 at
     return f;
 }
 
-// A domain point whose curves' first segments disagree: the size to cap the curves at there,
-// and by how much the segments there exceed what is asked (> 1).
 // A corner capped before and still apart is capped at least this many times lower.
 constexpr double kCornerCapStep = 1.5;
 
+// A domain point whose curves' first segments disagree: the size to cap the curves at there,
+// and by how much the segments there exceed what is asked (> 1).
 struct CornerCap {
     VertexId v;
     double size, excess;
@@ -305,7 +305,7 @@ AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const B
                     // spoke's foot and the circle's start point, placed as one 1.9 times the
                     // spoke's length: 21 degrees, seed 2539 of the random domains). The cap
                     // is lowered by the ratio left over, and by a third at least: a ratio
-                    // left over of a few percent moved nothing, as a curve of one segment
+                    // left over of 6% moved nothing, as a curve of one segment
                     // rounds up to two only under a cone well below its length (a hole's side
                     // of one segment 1.51 times the embedded line leaving its end: 29.7
                     // degrees, seed 2478).
