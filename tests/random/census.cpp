@@ -81,7 +81,8 @@ int census(std::uint64_t from, std::uint64_t to, bool layers) {
                             at.y, c->rc.summary.c_str());
                 if (layers) {
                     const BoundaryLayerSpec& s = c->options.boundary_layers.front();
-                    std::printf("; layers %g x %g^k, %d", s.first_height, s.growth, s.layers);
+                    std::printf("; layers %g x %g^k, %d; %d rounds", s.first_height, s.growth, s.layers,
+                                r.stats.layer_rounds);
                 }
                 std::printf("\n");
             }

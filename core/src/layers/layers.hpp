@@ -13,7 +13,8 @@
 // columns are cut back:
 //   1. along their own ray, to less than half the distance to any other boundary segment,
 //      leaving a strip of the local size between facing layers (a row of isotropic
-//      triangles);
+//      triangles); two columns whose rays cross, both short of the crossing, but a ray that
+//      passes over another column's foot meets that column as a boundary (cut_by_rays);
 //   1b. until no two tops come closer than that strip (half of it from either side), but
 //      tops on one base or on bases at most two apart along a wall: rays that pass beside
 //      each other at a slant keep no strip between their tops;

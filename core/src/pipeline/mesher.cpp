@@ -180,7 +180,7 @@ bool any_sharp(const Mesh& m) {
 
 // The columns of the layers with a point at a corner of a sharp triangle (sharp()) (the
 // highest of those points, where there are several) are held, in
-// `limits`, to a quarter fewer layers than that point's level, one at least: a narrow gap
+// `limits`, to a third fewer layers than that point's level, one at least: a narrow gap
 // between two walls' layers widened, a steep fall of the outer edge from a tall column to a
 // short one flattened (lowering the short one would steepen it). True when any was.
 bool lower_columns_at_sharp_triangles(const Mesh& m, const GrownLayers& g, std::vector<LayerColumn>& limits) {
@@ -196,7 +196,7 @@ bool lower_columns_at_sharp_triangles(const Mesh& m, const GrownLayers& g, std::
         for (const VertexId v : t.v) {
             const LayerColumn* col = column_at(v);
             if (!col || col->levels < highest) continue;
-            limits.push_back({col->base, col->dir, col->levels - std::max(1, col->levels / 4)});
+            limits.push_back({col->base, col->dir, col->levels - std::max(1, col->levels / 3)});
         }
     }
     return limits.size() > before;
