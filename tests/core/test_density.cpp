@@ -612,3 +612,27 @@ TEST(Gradation, TheEnvelopeAnswersEveryQueryAsTheFormulaDoes) {
         EXPECT_EQ(cap(Vec2{0.3, 0.7}), formula({0.3, 0.7}, HUGE_VAL));
     }
 }
+
+// A leaf's last step of four cones reads past its end: there the entries stand at the origin,
+// sizes at infinity, so that they never win. Every count of sources up to two steps, all
+// round the origin, queried there and beside them (a zero size in those entries would answer
+// 0 at the origin, where the sources' cones give 0.05 + (ratio - 1) 0.1 and more).
+TEST(Gradation, ALeafsLastStepReadsNothingPastItsEnd) {
+    for (int count = 1; count <= 8; ++count) {
+        SCOPED_TRACE(count);
+        std::vector<Vec2> at;
+        std::vector<double> size;
+        for (int i = 0; i < count; ++i) {
+            const double a = 2.0 * std::numbers::pi * i / count;
+            at.push_back({0.1 * std::cos(a), 0.1 * std::sin(a)});
+            size.push_back(0.05 + 0.01 * i);
+        }
+        const GradationField cap(at, size, 1.25);
+        for (const Vec2 x : {Vec2{0.0, 0.0}, Vec2{0.01, -0.02}, Vec2{-0.05, 0.03}, Vec2{0.2, 0.2}}) {
+            double h = HUGE_VAL;
+            for (size_t i = 0; i < at.size(); ++i) h = std::fmin(h, size[i] + 0.25 * distance(x, at[i]));
+            EXPECT_EQ(cap(x), h) << x.x << ", " << x.y;
+            EXPECT_EQ(cap.capped(x, 2.0 * h), h) << x.x << ", " << x.y;
+        }
+    }
+}
