@@ -568,3 +568,28 @@ TEST(Mesher, BoundariesFacingAcrossANarrowGapAreSpacedAtItsWidth) {
     expect_valid(p.mesh, "a thin plate");
     EXPECT_GT(longest_edge_within(p.mesh, 0.3, 0.7, 0.49, 0.51 + gap), 0.08);
 }
+
+// An embedded line from the square's corner ending 0.02 short of a hole's side, everything
+// sized 0.1: the line's free end and that side face each other across a gap as narrow as two
+// sides would (a spoke reaching across the gap between two holes ended a third of the local
+// size from the other hole: 11.3 degrees on a random domain with layers). Both are spaced at
+// the gap's width there, as two sides are.
+TEST(Mesher, AnEmbeddedCurvesFreeEndNearAWallIsAGapAsNarrow) {
+    const double gap = 0.02;
+    const Vec2 end{0.3 - gap, 0.3};
+    DomainSpec s = square_with_box_hole(0.1, 0.5);
+    s.points.push_back({"E", end});
+    s.curves.push_back(line("spoke", "A", "E", "cut"));
+    s.embedded = {"spoke"};
+    const MeshResult r = generate_mesh(build_domain(s), density_of("0.1"));
+    expect_valid(r.mesh, "a line ending beside a hole");
+    EXPECT_GE(r.quality.angle_min, 30.0);
+    // The hole's side beside the end, and the line's last segment.
+    EXPECT_LE(longest_edge_within(r.mesh, 0.29, 0.31, 0.25, 0.35), 2.0 * gap);
+    double last = 0.0;
+    for (const MeshEdge& e : r.mesh.edges)
+        if (e.embedded && (r.mesh.point(e.a) == end || r.mesh.point(e.b) == end))
+            last = distance(r.mesh.point(e.a), r.mesh.point(e.b));
+    EXPECT_GT(last, 0.0);
+    EXPECT_LE(last, 2.0 * gap);
+}
