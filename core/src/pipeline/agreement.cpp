@@ -171,7 +171,7 @@ void cap_narrow_gaps(const Discretisation& d, std::vector<Vec2>& caps, std::vect
     std::vector<std::int32_t> loop_of_vertex(d.size(), -1);
     for (size_t k = 0; k < d.loops.size(); ++k)
         for (const VertexId v : d.loops[k]) loop_of_vertex[v] = static_cast<std::int32_t>(k);
-    std::vector<std::uint8_t> ends_at(d.size(), 0);
+    std::vector<std::uint32_t> ends_at(d.size(), 0);
     for (const auto& line : d.embedded)
         if (line.size() >= 2) ++ends_at[line.front()], ++ends_at[line.back()];
     const std::uint32_t first_end = static_cast<std::uint32_t>(soup.segments.size());
