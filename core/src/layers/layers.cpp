@@ -664,8 +664,9 @@ private:
         auto along = [&](size_t r, Vec2 p) { return dot(p - pt(ray_of[r]->base), ray_of[r]->dir); };
         // Ray r meets something at x, t along it, that stands there as a boundary does: less
         // than half the gap, and room left beside it for a row of isotropic triangles.
-        auto as_boundary = [&](size_t r, double t, Vec2 x) {
-            cap[r] = std::min(cap[r], std::min(kGapShare * t, 0.5 * (t - kStripShare * rho_.interior(x))));
+        // (`strip`: kStripShare of rho at x.)
+        auto as_boundary = [&](size_t r, double t, double strip) {
+            cap[r] = std::min(cap[r], std::min(kGapShare * t, 0.5 * (t - strip)));
         };
         detail::for_each_crossing(soup, [&](std::uint32_t i, std::uint32_t j) {
             if (j < boundary) return;
@@ -683,7 +684,7 @@ private:
                 if (i >= curves_end && distance(x, cross_centre[i - curves_end]) > rho_.interior(x)) return;
                 // Less than half the gap, and room left between the layers of both sides for
                 // a row of isotropic triangles of the local size.
-                as_boundary(rj, along(rj, x), x);
+                as_boundary(rj, along(rj, x), kStripShare * rho_.interior(x));
             } else {
                 // Two rays that cross about as far from both bases: both columns stop short
                 // of the crossing. One that passes over the foot of the other column (less
@@ -697,13 +698,16 @@ private:
                 const double ti = along(ri, x), tj = along(rj, x);
                 // Whether column r, whole, stays clear of x by a strip more than the other
                 // column cut as by a boundary at x (its ray passes over r's foot).
+                double strip = -1.0;  // rho at x is read only where a foot is passed over
                 auto spared = [&](size_t r, double ta, double tb) {
-                    return ta < kGapShare * tb && top(*ray_of[r]) + kStripShare * rho_.interior(x) < (1.0 - kGapShare) * tb;
+                    if (!(ta < kGapShare * tb)) return false;
+                    if (strip < 0.0) strip = kStripShare * rho_.interior(x);
+                    return top(*ray_of[r]) + strip < (1.0 - kGapShare) * tb;
                 };
                 if (spared(ri, ti, tj)) {
-                    as_boundary(rj, tj, x);
+                    as_boundary(rj, tj, strip);
                 } else if (spared(rj, tj, ti)) {
-                    as_boundary(ri, ti, x);
+                    as_boundary(ri, ti, strip);
                 } else {
                     cap[rj] = std::min(cap[rj], 0.9 * tj);
                     cap[ri] = std::min(cap[ri], 0.9 * ti);
