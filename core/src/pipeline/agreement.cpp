@@ -193,7 +193,7 @@ void cap_narrow_gaps(const Discretisation& d, std::vector<Vec2>& caps, std::vect
             const auto [v, leaves] = free_ends[std::max(p, q) - first_end];
             const std::uint32_t i = segment_of[std::min(p, q)];
             const BoundarySegment& s = d.segments[i];
-            if (leaves >= 0 && loop_of_vertex[s.a] == leaves) return;
+            if (leaves >= 0 && loop_of[i] == static_cast<std::uint32_t>(leaves)) return;
             const Vec2 a = d.point(s.a), b = d.point(s.b), e = d.point(v), on_s = nearest_on(a, b, e);
             const double gap = distance(e, on_s);
             if (!(gap > 0.0) || !(distance(a, b) > kAgreementRatio * gap) || !(cross(b - a, e - on_s) > 0.0)) return;
