@@ -509,8 +509,11 @@ void JobManager::housekeeping() {
 }
 
 void JobManager::drain(std::chrono::duration<double> grace) {
+    drain_until(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(grace));
+}
+
+void JobManager::drain_until(std::chrono::steady_clock::time_point until) {
     draining_ = true;
-    const auto until = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(grace);
     {
         std::unique_lock<std::mutex> lock(m_);
         cv_.wait_until(lock, until, [&] { return queue_.empty() && busy_ == 0; });

@@ -354,9 +354,13 @@ bool Service::running() const { return http_->is_running(); }
 void Service::drain() {
     if (draining_.exchange(true)) return;
     spdlog::info("draining: readiness off, no new jobs, waiting up to {} s for running jobs", config_.drain_s);
-    // A shared store's jobs not finished within the grace are handed back to its queue.
+    // The grace counts from the signal: stopping the store's claimer first may take as long
+    // as its blocking read. A shared store's jobs not finished within the grace are handed
+    // back to its queue.
+    const auto until = std::chrono::steady_clock::now() +
+                       std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(config_.drain_s));
     if (redis_) redis_->stop_claiming();
-    jobs_->drain(std::chrono::duration<double>(config_.drain_s));
+    jobs_->drain_until(until);
     if (redis_) redis_->stop();
     spdlog::info("drained; stopping");
     http_->stop();

@@ -174,10 +174,12 @@ TEST(Replicas, AJobMovedFromPausedReplicasIsNotTakenForOneThatStopsThem) {
 // running one back when its grace ends, exits 0; every job ends succeeded on the other.
 TEST(Replicas, ADrainingReplicaHandsItsJobsBack) {
     RedisProcess redis;
-    auto a = replica(redis, {"--workers", "1", "--drain-s", "0.2"});
+    // The running job is four times the size of the others here (about 1.2 M points, over
+    // a second on the fastest machine) against a grace of 0.1 s: it cannot end in time.
+    auto a = replica(redis, {"--workers", "1", "--drain-s", "0.1"});
     auto ca = client(*a);
     std::vector<std::string> ids;
-    ids.push_back(submit(ca, slow_request(0.002)));
+    ids.push_back(submit(ca, slow_request(0.001)));
     ASSERT_TRUE(eventually([&] { return running(ca, ids[0]); }));
     for (int i = 0; i < 3; ++i) ids.push_back(submit(ca, naca_request()));
     for (const auto& id : ids) ASSERT_FALSE(id.empty());

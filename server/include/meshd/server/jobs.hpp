@@ -130,6 +130,8 @@ public:
     /// Stops taking jobs; waits up to `grace` for queued and running jobs to end, then
     /// cancels what is left and joins the workers.
     void drain(std::chrono::duration<double> grace);
+    /// The same with the grace ending at `until` (a drain whose grace began earlier).
+    void drain_until(std::chrono::steady_clock::time_point until);
 
     /// 128 bits from the system's entropy source, as 32 hex digits: ids cannot be guessed.
     static std::string new_id();
