@@ -288,6 +288,33 @@ TEST(RandomDomains, ARayPassingOverAColumnsFootCutsThePassingColumn) {
     }
 }
 
+// A gap between two curves about the field's size: too small for the interior to put a point
+// in, it is closed by a triangle of the curves' points alone, which neither the smoothing nor
+// any interior point can mend (seed 7186 without layers: a square hole's side against a
+// triangular hole's corner, 23.6 degrees; with layers, 12209: two holes' bare walls and a
+// layer top, 28.7; 12797: a spoke's free end beside another hole's layers, 23.5). The mesh
+// made shows such a triangle, and the curves at its corners are placed again finer, which
+// makes the interior finer beside them: everything is made again once, and then at 30 degrees.
+TEST(RandomDomains, ASharpTriangleOfFixedPointsAlonePlacesTheCurvesAgainFinerThere) {
+    expect_thirty_degrees_without_layers({7186u});
+    expect_thirty_degrees_with_layers({12209u, 12797u});
+    {
+        const RandomCase rc = random_case(7186u);
+        const MeshResult r = generate_mesh(build_domain(rc.domain), rc.density, MeshOptions{});
+        EXPECT_EQ(r.stats.closing_rounds, 1);
+    }
+    for (const std::uint64_t seed : {12209u, 12797u}) {
+        const LayeredCase lc = layered_case(seed);
+        EXPECT_EQ(generate_mesh(lc.domain, lc.rc.density, lc.options).stats.closing_rounds, 1) << seed;
+    }
+    // Without the curves' agreement (an option the tests of the paper's pure method use), the
+    // curves stay where rho puts them.
+    const RandomCase rc = random_case(7186u);
+    MeshOptions pure;
+    pure.curve_agreement = false;
+    EXPECT_EQ(generate_mesh(build_domain(rc.domain), rc.density, pure).stats.closing_rounds, 0);
+}
+
 // Two neighbouring segments at a domain point that a triangle of the two alone closes: the
 // ratio of 1.5 the corner caps allowed closes a right angle at 33.7 degrees, one of 112 at
 // 27.8 (a spoke leaving a coarse circle, seed 2544). The corner is now capped where that
@@ -402,13 +429,18 @@ TEST(RandomDomains, ASharpTriangleBesideTheLayersLowersTheColumnsAtItsCorners) {
     }
 }
 
-// Where no lowered round leaves every triangle at 30 degrees (seed 12209: 28.7 degrees), the
-// layers are grown once more as at first: the user's layers are thinned only where that mends
-// every angle. They are then those of a mesh without the smoothing, which grows them once.
+// Where no lowered round leaves every triangle at 30 degrees, the layers are grown once more
+// as at first: the user's layers are thinned only where that mends every angle. They are then
+// those of a mesh without the smoothing, which grows them once. Seed 12797 (a spoke's free end
+// beside another hole's layers) is such a domain; with the defaults its curves are then placed
+// again for the triangle of fixed points it leaves (ASharpTriangleOfFixedPointsAlone...), so
+// the rounds are seen here without the curves' agreement, which that placing belongs to.
 TEST(RandomDomains, LayersNoRoundMendsStandAsFirstGrown) {
-    const LayeredCase lc = layered_case(12209);
+    LayeredCase lc = layered_case(12797);
+    lc.options.curve_agreement = false;
     const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
     EXPECT_EQ(r.stats.layer_rounds, 4);  // three lowered, then as at first
+    EXPECT_EQ(r.stats.closing_rounds, 0);
     EXPECT_TRUE(check_mesh(r.mesh, false).empty());
     MeshOptions once = lc.options;
     once.smoothing_iterations = 0;

@@ -60,7 +60,7 @@ std::optional<Case> case_for(std::uint64_t seed, bool layers) {
 }
 
 int census(std::uint64_t from, std::uint64_t to, bool layers) {
-    int below = 0, meshed = 0, refused = 0, invalid = 0;
+    int below = 0, meshed = 0, refused = 0, invalid = 0, closed = 0;
     double sum = 0.0, points = 0.0;
     for (std::uint64_t seed = from; seed <= to; ++seed) {
         const auto c = case_for(seed, layers);
@@ -75,6 +75,14 @@ int census(std::uint64_t from, std::uint64_t to, bool layers) {
             }
             sum += angle;
             points += static_cast<double>(r.quality.points);
+            if (r.stats.layer_rounds > 3)
+                std::printf("seed %llu: %d layer rounds (none mended all: grown again as at first), %.2f degrees\n",
+                            static_cast<unsigned long long>(seed), r.stats.layer_rounds, angle);
+            if (r.stats.closing_rounds > 0) {
+                ++closed;
+                std::printf("seed %llu: %d closing rounds, %.2f degrees\n", static_cast<unsigned long long>(seed),
+                            r.stats.closing_rounds, angle);
+            }
             if (angle < 30.0) {
                 ++below;
                 std::printf("seed %llu: %.2f degrees at (%.9g, %.9g); %s", static_cast<unsigned long long>(seed), angle, at.x,
@@ -91,8 +99,9 @@ int census(std::uint64_t from, std::uint64_t to, bool layers) {
             std::printf("seed %llu: refused: %s\n", static_cast<unsigned long long>(seed), e.what());
         }
     }
-    std::printf("%d of %d meshes below 30 degrees (%d refused, %d invalid); mean smallest angle %.3f; %.0f points\n", below,
-                meshed, refused, invalid, sum / std::max(meshed, 1), points);
+    std::printf("%d of %d meshes below 30 degrees (%d refused, %d invalid); mean smallest angle %.3f; %.0f points; "
+                "%d with closing rounds\n",
+                below, meshed, refused, invalid, sum / std::max(meshed, 1), points, closed);
     return 0;
 }
 

@@ -261,14 +261,15 @@ double probe_interior(const SizeField& rho, Vec2 p) {
 }
 
 AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const BoundaryOptions& options,
-                                   Discretisation& d, Observer* observer, const std::vector<bool>& walls) {
+                                   Discretisation& d, Observer* observer, const std::vector<bool>& walls,
+                                   const SizeCaps& closing) {
     AgreementStats stats;
-    std::vector<Vec2> caps, fine;
-    std::vector<double> cap_sizes, fine_sizes;
+    std::vector<Vec2> caps = closing.points, fine;
+    std::vector<double> cap_sizes = closing.sizes, fine_sizes;
     std::map<std::pair<double, double>, double> corner_caps;  // a domain point's cap so far
     set_interior_cap(rho, d, fine, fine_sizes);
     for (int round = 0; round < kAgreementRounds; ++round) {
-        const size_t caps_before = caps.size(), fine_before = fine.size();
+        const size_t caps_before = round == 0 ? 0 : caps.size(), fine_before = fine.size();
         for (size_t i = 0; i < d.segments.size(); ++i) {
             const BoundarySegment& s = d.segments[i];
             const Vec2 a = d.point(s.a), b = d.point(s.b);

@@ -55,9 +55,11 @@ double probe_interior(const SizeField& rho, Vec2 p);
 ///
 /// `walls` (per curve, may be empty): curves with boundary layers, whose fine segments cap no
 /// interior field: the interior meets the layers' outer edge instead (agree_interior_with_front).
+/// `closing`: caps of the curves known before the first probe (a mesh made before showed
+/// sharp triangles of curve points alone there); they make the first round's placement.
 AgreementStats agree_with_interior(const Domain& domain, SizeField& rho, const BoundaryOptions& options,
                                    Discretisation& d, Observer* observer = nullptr,
-                                   const std::vector<bool>& walls = {});
+                                   const std::vector<bool>& walls = {}, const SizeCaps& closing = {});
 
 /// The interior cap of agree_with_interior made again from `front`, the discretisation the
 /// interior is meshed up to when boundary layers stand on the walls: their outer edge is

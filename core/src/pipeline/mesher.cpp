@@ -202,6 +202,36 @@ bool lower_columns_at_sharp_triangles(const Mesh& m, const GrownLayers& g, std::
     return limits.size() > before;
 }
 
+/// Rounds of placing the curves again for triangles of fixed points alone, at most.
+constexpr int kClosingRounds = 2;
+
+// Triangles made of fixed points alone (no interior point, no layer point) with a corner
+// sharper than 30 degrees (sharp()): a gap between two curves too small for the interior to
+// put a point in, closed by the curves' points alone (a square hole's side and a triangular
+// hole's corner across a gap 1.4 times the field: 23.6 degrees). No placement of interior
+// points mends them, and the smoothing cannot move their corners. The curves at their corners
+// are capped at the shortest side over kAgreementRatio, added to `closing`: placed again
+// finer there, the curves make the interior finer beside them (the agreement's interior cap)
+// and the gap is meshed with points of its own. The mesh itself is the test of whether the
+// interior could open the gap, which the walls alone cannot tell. Only a smoothed mesh is
+// looked at, as for the layers' rounds: without the smoothing's flips many more triangles
+// of fixed points stay sharp, and a mesh asked for unsmoothed is the paper's placement as it
+// comes. True when any was found.
+bool cap_closing_triangles(const Mesh& m, SizeCaps& closing) {
+    const size_t before = closing.points.size();
+    for (const Triangle& t : m.triangles) {
+        const auto fixed = [&](VertexId v) { return m.kind[v] != PointKind::Interior; };
+        if (!fixed(t.v[0]) || !fixed(t.v[1]) || !fixed(t.v[2]) || !sharp(m, t)) continue;
+        const Vec2 a = m.point(t.v[0]), b = m.point(t.v[1]), c = m.point(t.v[2]);
+        const double shortest = std::fmin(distance(a, b), std::fmin(distance(b, c), distance(c, a)));
+        for (const Vec2 p : {a, b, c}) {
+            closing.points.push_back(p);
+            closing.sizes.push_back(shortest / kAgreementRatio);
+        }
+    }
+    return closing.points.size() > before;
+}
+
 }  // namespace
 
 MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const MeshOptions& asked,
@@ -224,163 +254,177 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         if (observer) observer->on_forecast(forecast.total(), peak_bytes_for(forecast.total()));
     }
 
-    // Boundary.
-    SizeField rho(density, domain);
-    BoundaryOptions bopt;
-    bopt.spline_spacing = options.spline_spacing;
-    bopt.max_points = options.max_points;
-    Discretisation d = discretise_boundary(domain, rho, bopt, observer);
-    if (rho.interpolates()) set_interpolation_sources(rho, d);
-    BoundaryTriangulation walls = triangulate_boundary(d);
-    if (rho.gradation()) {
-        // Limit the growth of the field sampled from the first boundary, then place the
-        // boundary points again along the limited field (and interpolate from those).
-        set_gradation_sources(rho, d, walls, options.max_points, observer);
-        d = discretise_boundary(domain, rho, bopt, observer);
-        if (rho.interpolates()) set_interpolation_sources(rho, d);
-        walls = triangulate_boundary(d);
-    }
-    // Boundary layers' fans: the walls beside them and the field around them no coarser than
-    // the fans' tops are apart (layers.hpp), growing gently away from them.
-    LayerPlan plan;
-    // The fans planned again on the walls placed since: a fan whose neighbours now stand
-    // closer, or where the field is now smaller, may be cut shorter than planned, its tops
-    // closer together than the walls were spaced for (a long slope of the outer edge down to
-    // it), and a fan the earlier walls cut back entirely may stand on these. The walls are
-    // placed again for those (narrow_fans), a few rounds at most.
-    auto place_walls_for_plan = [&] {
-        rho.set_cap(plan.caps(), kFanCapRatio);
-        d = discretise_boundary(domain, rho, bopt, observer);
-        if (rho.interpolates()) set_interpolation_sources(rho, d);
-    };
-    auto plan_fans_again = [&] {
-        for (int round = 0; round < kReplanRounds; ++round) {
-            if (!narrow_fans(plan, plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer)))
-                return;
-            place_walls_for_plan();
-        }
-    };
-    if (!options.boundary_layers.empty()) {
-        if (options.order == 2)
-            throw GeometryError(GeometryErrorKind::BadParameter,
-                                "second-order elements with boundary layers are not supported yet",
-                                {Subject::layers(0)});
-        plan = plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
-        if (!plan.fans.empty() || !plan.tops.empty()) {
-            place_walls_for_plan();
-            plan_fans_again();
-            walls = triangulate_boundary(d);
-        }
-    }
-    // Curves far coarser than the interior field beside them: spaced again to agree with it.
-    if (options.curve_agreement) {
-        r.stats.agreement = agree_with_interior(domain, rho, bopt, d, observer, plan.walls);
-        if (r.stats.agreement.rounds > 0) {
-            // The agreement's caps (the interior capped beside fine curves, curves placed
-            // again) cut fans back too: a fan planned 27,000 tall stood 760 on the agreed
-            // walls, its tops 317 apart between wall tops 9,000 apart.
-            if (!options.boundary_layers.empty()) plan_fans_again();
-            walls = triangulate_boundary(d);
-        }
-    }
-    // Refuse before the interior work when the mesh would clearly be too large. Not needed
-    // when the forecast, which sees everything but the gradation and the interior's caps
-    // at fine curves, is far below the limit and neither was applied.
-    const bool forecast_decides = !rho.gradation() && r.stats.agreement.rounds == 0 &&
-                                  4.0 * r.stats.forecast_points < static_cast<double>(options.max_points);
-    if (asked.max_points && !forecast_decides) {
-        const double limit = static_cast<double>(options.max_points);
-        const double estimate = estimate_point_count(d, walls, rho, limit, observer);
-        if (estimate > limit) refuse_too_many(estimate, options.max_points);
-    }
-    // Boundary layers: their outer edge takes the walls' place for the stages below.
-    std::optional<GrownLayers> layers;
-    std::vector<LayerColumn> limits;  // columns held lower beside sharp triangles
-    const auto curves_cap = rho.interior_cap();
-    auto grow = [&] {
-        rho.restore_interior_cap(curves_cap);  // a growth again sees the field the first saw
-        layers = grow_layers(domain, d, rho, options.boundary_layers, options.max_points, observer, &plan, &limits);
-        walls = triangulate_boundary(layers->front);
-        if (options.curve_agreement) agree_interior_with_front(rho, layers->front);
-    };
-    if (!options.boundary_layers.empty()) grow();
-    r.timings.boundary_ms = ms_since(t0);
-
     // Each stage is announced as it begins, so that progress (and a stop) is seen in the
     // right stage (again, when the layers are grown again below).
     auto begin = [&](Stage stage) {
         if (observer) observer->on_progress(stage, 0.0);
     };
 
+    // Everything from the boundary on is made again, a round or two at most, where the mesh
+    // has sharp triangles of fixed points alone (cap_closing_triangles).
+    std::optional<SizeField> field;
+    std::optional<GrownLayers> layers;
     Mesh& m = r.mesh;
-    bool as_first = false;  // the layers grown once more without limits: no round mended all
-    for (int round = 0;; ++round) {
-        const Discretisation& fixed = layers ? layers->front : d;
-        m = Mesh{};  // a round's mesh is let go before the next is made
-
-        // Interior.
-        begin(Stage::Interior);
-        t0 = Clock::now();
-        const double forecast = r.stats.forecast_points;
-        InteriorBudget budget{options.max_points, forecast > 0.0 && forecast < static_cast<double>(options.max_points)
-                                                      ? static_cast<size_t>(forecast)
-                                                      : 0};
-        std::vector<Vec2> inner = generate_interior_points(domain, fixed, walls, rho, options.interior, budget,
-                                                           observer, &r.stats.interior);
-        {
-            // Along a Hilbert curve: neighbours in the mesh become neighbours in memory, which
-            // the triangle order (order_by_largest_corner) and every later sweep profit from.
-            const detail::HugeVector<std::uint32_t> order = detail::hilbert_order(inner);
-            std::vector<Vec2> sorted;
-            detail::assign_huge(sorted, inner.size(), Vec2{});
-            for (size_t i = 0; i < order.size(); ++i) sorted[i] = inner[order[i]];
-            inner = std::move(sorted);
+    SizeCaps closing;
+    for (int closing_round = 0;; ++closing_round) {
+        if (closing_round > 0) t0 = Clock::now();
+        // Boundary.
+        field.emplace(density, domain);
+        SizeField& rho = *field;
+        BoundaryOptions bopt;
+        bopt.spline_spacing = options.spline_spacing;
+        bopt.max_points = options.max_points;
+        Discretisation d = discretise_boundary(domain, rho, bopt, observer);
+        if (rho.interpolates()) set_interpolation_sources(rho, d);
+        BoundaryTriangulation walls = triangulate_boundary(d);
+        if (rho.gradation()) {
+            // Limit the growth of the field sampled from the first boundary, then place the
+            // boundary points again along the limited field (and interpolate from those).
+            set_gradation_sources(rho, d, walls, options.max_points, observer);
+            d = discretise_boundary(domain, rho, bopt, observer);
+            if (rho.interpolates()) set_interpolation_sources(rho, d);
+            walls = triangulate_boundary(d);
         }
-        r.timings.interior_ms += ms_since(t0);
-
-        // Triangulation.
-        begin(Stage::Triangulation);
-        t0 = Clock::now();
-        std::vector<Vec2> pts = std::move(walls.points);
-        detail::reserve_filled(pts, pts.size() + inner.size());
-        pts.insert(pts.end(), inner.begin(), inner.end());
-        const std::vector<Constraint> cons = constraints_of(fixed);
-        TriangulationResult tr = options.triangulator == Triangulator::Delaunay
-                                     ? triangulate_delaunay(pts, cons, observer)
-                                     : triangulate_advancing_front(pts, cons, observer);
-        for (size_t i = 0; i < tr.alias.size(); ++i)
-            MESHD_INTERNAL_CHECK(tr.alias[i] == i, "two mesh points coincide");
-        r.stats.triangulation = tr.stats;
-        assemble(m, domain, fixed, layers ? layers->boundary : d, inner, std::move(tr.triangles));
-        r.timings.triangulation_ms += ms_since(t0);
-
-        // Improvement.
-        begin(Stage::Smoothing);
-        t0 = Clock::now();
-        if (options.smoothing_iterations > 0) {
-            r.stats.smoothing_flips = 0;
-            r.stats.smoothing_moves = smooth(m, options.smoothing_iterations, &domain, &r.stats.smoothing_flips, observer);
+        // Boundary layers' fans: the walls beside them and the field around them no coarser than
+        // the fans' tops are apart (layers.hpp), growing gently away from them.
+        LayerPlan plan;
+        // The fans planned again on the walls placed since: a fan whose neighbours now stand
+        // closer, or where the field is now smaller, may be cut shorter than planned, its tops
+        // closer together than the walls were spaced for (a long slope of the outer edge down to
+        // it), and a fan the earlier walls cut back entirely may stand on these. The walls are
+        // placed again for those (narrow_fans), a few rounds at most.
+        auto place_walls_for_plan = [&] {
+            rho.set_cap(plan.caps(), kFanCapRatio);
+            d = discretise_boundary(domain, rho, bopt, observer);
+            if (rho.interpolates()) set_interpolation_sources(rho, d);
+        };
+        auto plan_fans_again = [&] {
+            for (int round = 0; round < kReplanRounds; ++round) {
+                if (!narrow_fans(plan, plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer)))
+                    return;
+                place_walls_for_plan();
+            }
+        };
+        if (!options.boundary_layers.empty()) {
+            if (options.order == 2)
+                throw GeometryError(GeometryErrorKind::BadParameter,
+                                    "second-order elements with boundary layers are not supported yet",
+                                    {Subject::layers(0)});
+            plan = plan_layers(domain, d, rho, options.boundary_layers, options.max_points, observer);
+            if (!plan.fans.empty() || !plan.tops.empty()) {
+                place_walls_for_plan();
+                plan_fans_again();
+                walls = triangulate_boundary(d);
+            }
         }
-        r.timings.smoothing_ms += ms_since(t0);
-
-        // A triangle beside the layers still sharp after the smoothing's repair: the columns
-        // at its corners are held lower and the layers grown again, and the stages above run
-        // again on their new outer edge. Rare (a few domains in a thousand of the random
-        // domains with layers), and each round costs a whole mesh. A lower round is kept
-        // only if it has no sharp triangle left; else the layers are grown once more as at
-        // first, and that mesh is made again (rather than kept aside: one mesh in memory).
-        // (A first round without a sharp triangle beside the layers needs no other look.)
-        if (!layers || options.smoothing_iterations == 0 || as_first || (round > 0 && !any_sharp(m))) break;
-        if (round == kLayerRounds || !lower_columns_at_sharp_triangles(m, *layers, limits)) {
-            if (round == 0) break;
-            limits.clear();
-            as_first = true;
+        // Curves far coarser than the interior field beside them: spaced again to agree with it.
+        if (options.curve_agreement) {
+            r.stats.agreement = agree_with_interior(domain, rho, bopt, d, observer, plan.walls, closing);
+            if (r.stats.agreement.rounds > 0) {
+                // The agreement's caps (the interior capped beside fine curves, curves placed
+                // again) cut fans back too: a fan planned 27,000 tall stood 760 on the agreed
+                // walls, its tops 317 apart between wall tops 9,000 apart.
+                if (!options.boundary_layers.empty()) plan_fans_again();
+                walls = triangulate_boundary(d);
+            }
         }
-        t0 = Clock::now();
-        grow();
+        // Refuse before the interior work when the mesh would clearly be too large. Not needed
+        // when the forecast, which sees everything but the gradation and the interior's caps
+        // at fine curves, is far below the limit and neither was applied.
+        const bool forecast_decides = !rho.gradation() && r.stats.agreement.rounds == 0 &&
+                                      4.0 * r.stats.forecast_points < static_cast<double>(options.max_points);
+        if (asked.max_points && !forecast_decides) {
+            const double limit = static_cast<double>(options.max_points);
+            const double estimate = estimate_point_count(d, walls, rho, limit, observer);
+            if (estimate > limit) refuse_too_many(estimate, options.max_points);
+        }
+        // Boundary layers: their outer edge takes the walls' place for the stages below.
+        layers.reset();
+        std::vector<LayerColumn> limits;  // columns held lower beside sharp triangles
+        const auto curves_cap = rho.interior_cap();
+        auto grow = [&] {
+            rho.restore_interior_cap(curves_cap);  // a growth again sees the field the first saw
+            layers = grow_layers(domain, d, rho, options.boundary_layers, options.max_points, observer, &plan, &limits);
+            walls = triangulate_boundary(layers->front);
+            if (options.curve_agreement) agree_interior_with_front(rho, layers->front);
+        };
+        if (!options.boundary_layers.empty()) grow();
         r.timings.boundary_ms += ms_since(t0);
-        ++r.stats.layer_rounds;
+
+        bool as_first = false;  // the layers grown once more without limits: no round mended all
+        for (int round = 0;; ++round) {
+            const Discretisation& fixed = layers ? layers->front : d;
+            m = Mesh{};  // a round's mesh is let go before the next is made
+
+            // Interior.
+            begin(Stage::Interior);
+            t0 = Clock::now();
+            const double forecast = r.stats.forecast_points;
+            InteriorBudget budget{options.max_points, forecast > 0.0 && forecast < static_cast<double>(options.max_points)
+                                                          ? static_cast<size_t>(forecast)
+                                                          : 0};
+            std::vector<Vec2> inner = generate_interior_points(domain, fixed, walls, rho, options.interior, budget,
+                                                               observer, &r.stats.interior);
+            {
+                // Along a Hilbert curve: neighbours in the mesh become neighbours in memory, which
+                // the triangle order (order_by_largest_corner) and every later sweep profit from.
+                const detail::HugeVector<std::uint32_t> order = detail::hilbert_order(inner);
+                std::vector<Vec2> sorted;
+                detail::assign_huge(sorted, inner.size(), Vec2{});
+                for (size_t i = 0; i < order.size(); ++i) sorted[i] = inner[order[i]];
+                inner = std::move(sorted);
+            }
+            r.timings.interior_ms += ms_since(t0);
+
+            // Triangulation.
+            begin(Stage::Triangulation);
+            t0 = Clock::now();
+            std::vector<Vec2> pts = std::move(walls.points);
+            detail::reserve_filled(pts, pts.size() + inner.size());
+            pts.insert(pts.end(), inner.begin(), inner.end());
+            const std::vector<Constraint> cons = constraints_of(fixed);
+            TriangulationResult tr = options.triangulator == Triangulator::Delaunay
+                                         ? triangulate_delaunay(pts, cons, observer)
+                                         : triangulate_advancing_front(pts, cons, observer);
+            for (size_t i = 0; i < tr.alias.size(); ++i)
+                MESHD_INTERNAL_CHECK(tr.alias[i] == i, "two mesh points coincide");
+            r.stats.triangulation = tr.stats;
+            assemble(m, domain, fixed, layers ? layers->boundary : d, inner, std::move(tr.triangles));
+            r.timings.triangulation_ms += ms_since(t0);
+
+            // Improvement.
+            begin(Stage::Smoothing);
+            t0 = Clock::now();
+            if (options.smoothing_iterations > 0) {
+                r.stats.smoothing_flips = 0;
+                r.stats.smoothing_moves = smooth(m, options.smoothing_iterations, &domain, &r.stats.smoothing_flips, observer);
+            }
+            r.timings.smoothing_ms += ms_since(t0);
+
+            // A triangle beside the layers still sharp after the smoothing's repair: the columns
+            // at its corners are held lower and the layers grown again, and the stages above run
+            // again on their new outer edge. Rare (a few domains in a thousand of the random
+            // domains with layers), and each round costs a whole mesh. A lower round is kept
+            // only if it has no sharp triangle left; else the layers are grown once more as at
+            // first, and that mesh is made again (rather than kept aside: one mesh in memory).
+            // (A first round without a sharp triangle beside the layers needs no other look.)
+            if (!layers || options.smoothing_iterations == 0 || as_first || (round > 0 && !any_sharp(m))) break;
+            if (round == kLayerRounds || !lower_columns_at_sharp_triangles(m, *layers, limits)) {
+                if (round == 0) break;
+                limits.clear();
+                as_first = true;
+            }
+            t0 = Clock::now();
+            grow();
+            r.timings.boundary_ms += ms_since(t0);
+            ++r.stats.layer_rounds;
+        }
+        if (closing_round == kClosingRounds || !options.curve_agreement || options.smoothing_iterations == 0 ||
+            !cap_closing_triangles(m, closing))
+            break;
+        ++r.stats.closing_rounds;
     }
+    SizeField& rho = *field;
 
     if (options.min_angle_deg > 0.0) {
         t0 = Clock::now();
