@@ -15,7 +15,8 @@ public:
     virtual ~Observer() = default;
     /// fraction in [0, 1] of the stage. Called often; keep it cheap. The interior, the
     /// triangulation and the smoothing may be announced again, in order, where the boundary
-    /// layers are grown again (MeshStats::layer_rounds).
+    /// layers are grown again (MeshStats::layer_rounds), and every stage from the boundary on
+    /// where the curves are placed again (MeshStats::closing_rounds).
     virtual void on_progress(Stage stage, double fraction) { (void)stage; (void)fraction; }
     virtual bool should_stop() { return false; }
     /// Once per mesh, after the admission check and before any stage: the points the mesh is
