@@ -158,10 +158,11 @@ void add_layers(Mesh& m, const GrownLayers& g) {
 /// Rounds of growing the layers again, lower beside sharp triangles, at most.
 constexpr int kLayerRounds = 3;
 /// The tangent of the angle below which a triangle beside the layers lowers the columns at
-/// its corners: 30 degrees, the smallest angle issue 15 asks of every domain.
-constexpr double kLayerSharpTan = std::numbers::inv_sqrt3;
+/// its corners, and one of fixed points alone places the curves again (cap_closing_
+/// triangles): 30 degrees, the smallest angle issue 15 asks of every domain.
+constexpr double kSharpTan = std::numbers::inv_sqrt3;
 
-// Whether triangle t has a corner sharper than kLayerSharpTan, but for a corner between two
+// Whether triangle t has a corner sharper than kSharpTan, but for a corner between two
 // constrained edges (the domain's own, the layers' outer edge where it bends). Without an
 // arc tangent: it runs over every triangle of a mesh with layers.
 bool sharp(const Mesh& m, const Triangle& t) {
@@ -169,7 +170,7 @@ bool sharp(const Mesh& m, const Triangle& t) {
         if ((t.constrained >> ((i + 1) % 3) & 1u) && (t.constrained >> ((i + 2) % 3) & 1u)) continue;
         const Vec2 a = m.point(t.v[i]), u = m.point(t.v[(i + 1) % 3]) - a, w = m.point(t.v[(i + 2) % 3]) - a;
         const double along = dot(u, w);
-        if (along > 0.0 && std::fabs(cross(u, w)) < kLayerSharpTan * along) return true;
+        if (along > 0.0 && std::fabs(cross(u, w)) < kSharpTan * along) return true;
     }
     return false;
 }
@@ -205,10 +206,11 @@ bool lower_columns_at_sharp_triangles(const Mesh& m, const GrownLayers& g, std::
 /// Rounds of placing the curves again for triangles of fixed points alone, at most.
 constexpr int kClosingRounds = 2;
 
-// Triangles made of fixed points alone (no interior point, no layer point) with a corner
-// sharper than 30 degrees (sharp()): a gap between two curves too small for the interior to
-// put a point in, closed by the curves' points alone (a square hole's side and a triangular
-// hole's corner across a gap 1.4 times the field: 23.6 degrees). No placement of interior
+// Triangles made of fixed points alone (curve points and the layers' outer edge, no interior
+// point) with a corner sharper than 30 degrees (sharp()): a gap between two curves too small
+// for the interior to put a point in, closed by the curves' points alone (a square hole's side
+// and a triangular hole's corner across a gap 1.4 times the field: 23.6 degrees; two holes'
+// bare walls and a layer top between them: 28.7). No placement of interior
 // points mends them, and the smoothing cannot move their corners. The curves at their corners
 // are capped at the shortest side over kAgreementRatio, added to `closing`: placed again
 // finer there, the curves make the interior finer beside them (the agreement's interior cap)

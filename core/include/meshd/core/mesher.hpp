@@ -139,8 +139,8 @@ struct MeshStats {
     /// grown when none of those left every triangle at 30 degrees or more.
     int layer_rounds = 0;
     /// Times the curves were placed again, finer where the mesh had a triangle below 30
-    /// degrees made of curve points alone (a gap between curves too small for an interior
-    /// point), and everything after them made again: at most 2, with the curves' agreement
+    /// degrees made of fixed points alone (curve points, layer tops: a gap between curves too
+    /// small for an interior point), and everything after them made again: at most 2, with the curves' agreement
     /// and the smoothing on.
     int closing_rounds = 0;
     /// Predicate calls the floating-point filter could not settle (exact stage).
