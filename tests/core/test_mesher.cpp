@@ -593,3 +593,31 @@ TEST(Mesher, AnEmbeddedCurvesFreeEndNearAWallIsAGapAsNarrow) {
     EXPECT_GT(last, 0.0);
     EXPECT_LE(last, 2.0 * gap);
 }
+
+// Two embedded lines along y = 0.5 whose ends face each other 0.02 apart, everything sized
+// 0.1: two free ends close together are a gap as narrow as two sides (seed 24033 of the random
+// domains with layers: ends 0.55 of the field apart, a triangle of the two and an interior
+// point at 27.9 degrees). Both lines are spaced at the gap's width at those ends.
+TEST(Mesher, TwoFreeEndsCloseTogetherAreAGapAsNarrow) {
+    const double gap = 0.02;
+    const Vec2 e1{0.5 - gap / 2, 0.5}, e2{0.5 + gap / 2, 0.5};
+    DomainSpec s = unit_square();
+    s.points.push_back({"L1", {0.2, 0.5}});
+    s.points.push_back({"E1", e1});
+    s.points.push_back({"E2", e2});
+    s.points.push_back({"L2", {0.8, 0.5}});
+    s.curves.push_back(line("west", "L1", "E1", "cut"));
+    s.curves.push_back(line("east", "E2", "L2", "cut"));
+    s.embedded = {"west", "east"};
+    const MeshResult r = generate_mesh(build_domain(s), density_of("0.1"));
+    expect_valid(r.mesh, "two lines ending close together");
+    EXPECT_GE(r.quality.angle_min, 30.0);
+    for (const Vec2 end : {e1, e2}) {
+        double last = 0.0;
+        for (const MeshEdge& e : r.mesh.edges)
+            if (e.embedded && (r.mesh.point(e.a) == end || r.mesh.point(e.b) == end))
+                last = distance(r.mesh.point(e.a), r.mesh.point(e.b));
+        EXPECT_GT(last, 0.0);
+        EXPECT_LE(last, 2.0 * gap);
+    }
+}

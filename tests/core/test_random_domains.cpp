@@ -316,6 +316,14 @@ TEST(RandomDomains, ASharpTriangleOfFixedPointsAlonePlacesTheCurvesAgainFinerThe
     EXPECT_EQ(generate_mesh(build_domain(rc.domain), rc.density, pure).stats.closing_rounds, 0);
 }
 
+// Two embedded lines whose free ends face each other 0.55 of the field apart: a triangle of
+// the two ends and an interior point had 27.9 degrees (seed 24033 with layers). Two free ends
+// closer than their end segments over 1.5 are now a narrow gap, both lines spaced at its
+// width there (Mesher.TwoFreeEndsCloseTogetherAreAGapAsNarrow).
+TEST(RandomDomains, TwoFreeEndsCloseTogetherAreSpacedForTheirGap) {
+    expect_thirty_degrees_with_layers({24033u});
+}
+
 // Two neighbouring segments at a domain point that a triangle of the two alone closes: the
 // ratio of 1.5 the corner caps allowed closes a right angle at 33.7 degrees, one of 112 at
 // 27.8 (a spoke leaving a coarse circle, seed 2544). The corner is now capped where that
