@@ -295,10 +295,11 @@ TEST(RandomDomains, ARayPassingOverAColumnsFootCutsThePassingColumn) {
 // layer top, 28.7; 12797: a spoke's free end beside another hole's layers, 23.5). The mesh
 // made shows such a triangle, and the curves at its corners are placed again finer, which
 // makes the interior finer beside them: everything is made again once, and then at 30 degrees
-// (and 9262, 13485 and 13840 without layers: 28.1, 28.4 and 26.2 before).
+// (and 9262, 13485 and 13840 without layers: 28.1, 28.4 and 26.2 before; 22922 with layers,
+// 23.9).
 TEST(RandomDomains, ASharpTriangleOfFixedPointsAlonePlacesTheCurvesAgainFinerThere) {
     expect_thirty_degrees_without_layers({7186u, 9262u, 13485u, 13840u});
-    expect_thirty_degrees_with_layers({12209u, 12797u});
+    expect_thirty_degrees_with_layers({12209u, 12797u, 22922u});
     {
         const RandomCase rc = random_case(7186u);
         const MeshResult r = generate_mesh(build_domain(rc.domain), rc.density, MeshOptions{});
