@@ -531,6 +531,14 @@ DomainSpec square_with_box_hole(double y0, double y1) {
     return s;
 }
 
+// The length of an embedded edge ending at `end` (0 if none does).
+double embedded_edge_at(const Mesh& m, Vec2 end) {
+    double length = 0.0;
+    for (const MeshEdge& e : m.edges)
+        if (e.embedded && (m.point(e.a) == end || m.point(e.b) == end)) length = distance(m.point(e.a), m.point(e.b));
+    return length;
+}
+
 // The longest boundary edge with both ends in the box [x0, x1] x [y0, y1].
 double longest_edge_within(const Mesh& m, double x0, double x1, double y0, double y1) {
     const auto inside = [&](Vec2 p) { return p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1; };
@@ -586,10 +594,7 @@ TEST(Mesher, AnEmbeddedCurvesFreeEndNearAWallIsAGapAsNarrow) {
     EXPECT_GE(r.quality.angle_min, 30.0);
     // The hole's side beside the end, and the line's last segment.
     EXPECT_LE(longest_edge_within(r.mesh, 0.29, 0.31, 0.25, 0.35), 2.0 * gap);
-    double last = 0.0;
-    for (const MeshEdge& e : r.mesh.edges)
-        if (e.embedded && (r.mesh.point(e.a) == end || r.mesh.point(e.b) == end))
-            last = distance(r.mesh.point(e.a), r.mesh.point(e.b));
+    const double last = embedded_edge_at(r.mesh, end);
     EXPECT_GT(last, 0.0);
     EXPECT_LE(last, 2.0 * gap);
 }
@@ -613,10 +618,7 @@ TEST(Mesher, TwoFreeEndsCloseTogetherAreAGapAsNarrow) {
     expect_valid(r.mesh, "two lines ending close together");
     EXPECT_GE(r.quality.angle_min, 30.0);
     for (const Vec2 end : {e1, e2}) {
-        double last = 0.0;
-        for (const MeshEdge& e : r.mesh.edges)
-            if (e.embedded && (r.mesh.point(e.a) == end || r.mesh.point(e.b) == end))
-                last = distance(r.mesh.point(e.a), r.mesh.point(e.b));
+        const double last = embedded_edge_at(r.mesh, end);
         EXPECT_GT(last, 0.0);
         EXPECT_LE(last, 2.0 * gap);
     }
