@@ -205,6 +205,8 @@ bool lower_columns_at_sharp_triangles(const Mesh& m, const GrownLayers& g, std::
 
 /// Rounds of placing the curves again for triangles of fixed points alone, at most.
 constexpr int kClosingRounds = 2;
+/// A closing round is made only for a mesh below this share of max_points.
+constexpr double kClosingRoom = 0.8;
 
 // Triangles made of fixed points alone (curve points and the layers' outer edge, no interior
 // point) with a corner sharper than 30 degrees (sharp()): a gap between two curves too small
@@ -335,7 +337,8 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         // at fine curves, is far below the limit and neither was applied.
         const bool forecast_decides = !rho.gradation() && r.stats.agreement.rounds == 0 &&
                                       4.0 * r.stats.forecast_points < static_cast<double>(options.max_points);
-        if (asked.max_points && !forecast_decides) {
+        // (Not in a closing round: its first mesh met the limit with room to spare, kClosingRoom.)
+        if (asked.max_points && !forecast_decides && closing_round == 0) {
             const double limit = static_cast<double>(options.max_points);
             const double estimate = estimate_point_count(d, walls, rho, limit, observer);
             if (estimate > limit) refuse_too_many(estimate, options.max_points);
@@ -421,7 +424,10 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             r.timings.boundary_ms += ms_since(t0);
             ++r.stats.layer_rounds;
         }
-        if (closing_round == kClosingRounds || !options.curve_agreement || options.smoothing_iterations == 0 ||
+        // Not for a mesh near max_points: the finer curves add a few points, and a request
+        // the first mesh met is not refused for them.
+        const bool room = static_cast<double>(m.point_count()) < kClosingRoom * static_cast<double>(options.max_points);
+        if (closing_round == kClosingRounds || !options.curve_agreement || options.smoothing_iterations == 0 || !room ||
             !cap_closing_triangles(m, closing))
             break;
         ++r.stats.closing_rounds;
