@@ -50,6 +50,9 @@ public:
         }
         return false;
     }
+    double seconds_left() override {
+        return std::chrono::duration<double>(deadline_ - std::chrono::steady_clock::now()).count();
+    }
     void on_forecast(double, std::size_t peak_bytes) override {
         {
             std::lock_guard<std::mutex> lock(job_.m);

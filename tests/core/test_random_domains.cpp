@@ -320,6 +320,16 @@ TEST(RandomDomains, ASharpTriangleOfFixedPointsAlonePlacesTheCurvesAgainFinerThe
         EXPECT_EQ(r.stats.closing_rounds, 0);
         EXPECT_LE(r.quality.points, 440u);
     }
+    // Nor one that would not fit in the time left (Observer::seconds_left): the mesh made is
+    // kept rather than lost to the limit.
+    {
+        struct NoTimeLeft : Observer {
+            double seconds_left() override { return 0.0; }
+        } late;
+        const RandomCase rc = random_case(7186u);
+        const MeshResult r = generate_mesh(build_domain(rc.domain), rc.density, MeshOptions{}, &late);
+        EXPECT_EQ(r.stats.closing_rounds, 0);
+    }
     // Without the curves' agreement (an option the tests of the paper's pure method use), the
     // curves stay where rho puts them.
     const RandomCase rc = random_case(7186u);

@@ -272,6 +272,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     SizeCaps closing;
     for (int closing_round = 0;; ++closing_round) {
         if (closing_round > 0) t0 = Clock::now();
+        const auto round_start = Clock::now();
         // Boundary.
         field.emplace(density, domain);
         SizeField& rho = *field;
@@ -426,7 +427,9 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         }
         // Not for a mesh near max_points: the finer curves add a few points, and a request
         // the first mesh met is not refused for them.
-        const bool room = static_cast<double>(m.point_count()) < kClosingRoom * static_cast<double>(options.max_points);
+        // Nor where another round as long as this one would not fit in the time left.
+        const bool room = static_cast<double>(m.point_count()) < kClosingRoom * static_cast<double>(options.max_points) &&
+                          !(observer && observer->seconds_left() < 1e-3 * ms_since(round_start));
         if (closing_round == kClosingRounds || !options.curve_agreement || options.smoothing_iterations == 0 || !room ||
             !cap_closing_triangles(m, closing))
             break;

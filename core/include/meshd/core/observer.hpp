@@ -4,6 +4,7 @@
 /// with a job's state; the CLI with a progress bar; tests with a counter.
 
 #include <cstddef>
+#include <limits>
 
 namespace meshd::core {
 
@@ -19,6 +20,10 @@ public:
     /// where the curves are placed again (MeshStats::closing_rounds).
     virtual void on_progress(Stage stage, double fraction) { (void)stage; (void)fraction; }
     virtual bool should_stop() { return false; }
+    /// Seconds left before should_stop() says yes for the run's time limit (infinity: no
+    /// limit). The pipeline makes no optional round again (MeshStats::closing_rounds) that
+    /// would not fit: the mesh made is kept rather than lost to the limit.
+    virtual double seconds_left() { return std::numeric_limits<double>::infinity(); }
     /// Once per mesh, after the admission check and before any stage: the points the mesh is
     /// forecast to have and the memory a run of that size needs at its peak
     /// (peak_bytes_for() of mesher.hpp). An observer may wait here (until memory is free) or
