@@ -223,8 +223,8 @@ constexpr double kClosingRoom = 0.8;
 // comes. True when any was found.
 bool cap_closing_triangles(const Mesh& m, SizeCaps& closing) {
     const size_t before = closing.points.size();
+    const auto fixed = [&](VertexId v) { return m.kind[v] != PointKind::Interior; };
     for (const Triangle& t : m.triangles) {
-        const auto fixed = [&](VertexId v) { return m.kind[v] != PointKind::Interior; };
         if (!fixed(t.v[0]) || !fixed(t.v[1]) || !fixed(t.v[2]) || !sharp(m, t)) continue;
         const Vec2 a = m.point(t.v[0]), b = m.point(t.v[1]), c = m.point(t.v[2]);
         const double shortest = std::fmin(distance(a, b), std::fmin(distance(b, c), distance(c, a)));
@@ -271,8 +271,8 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     Mesh& m = r.mesh;
     SizeCaps closing;
     for (int closing_round = 0;; ++closing_round) {
-        if (closing_round > 0) t0 = Clock::now();
         const auto round_start = Clock::now();
+        if (closing_round > 0) t0 = round_start;
         // Boundary.
         field.emplace(density, domain);
         SizeField& rho = *field;
