@@ -460,6 +460,35 @@ TEST(RandomDomains, ASharpTriangleBesideTheLayersLowersTheColumnsAtItsCorners) {
     }
 }
 
+// A round of the layers costs a whole mesh: none is begun where one would not fit in the time
+// left before the job's limit (Observer::seconds_left, the server's deadline). The mesh made
+// is kept, with the layers as first grown, rather than lost to the limit.
+TEST(RandomDomains, NoLayersRoundWhereTheTimeLeftWouldNotHoldOne) {
+    struct NoTimeLeft : Observer {
+        double seconds_left() override { return 0.0; }
+    };
+    struct PlentyOfTime : Observer {
+        double seconds_left() override { return 3600.0; }
+    };
+    for (const std::uint64_t seed : {2749u, 3456u}) {
+        const LayeredCase lc = layered_case(seed);
+        NoTimeLeft late;
+        const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options, &late);
+        EXPECT_EQ(r.stats.layer_rounds, 0) << seed;
+        EXPECT_EQ(r.stats.closing_rounds, 0) << seed;
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+        // The layers as first grown: those of the mesh without the smoothing's look.
+        MeshOptions once = lc.options;
+        once.smoothing_iterations = 0;
+        const MeshResult first = generate_mesh(lc.domain, lc.rc.density, once);
+        EXPECT_EQ(r.quality.boundary_layers.front().cut_back, first.quality.boundary_layers.front().cut_back) << seed;
+        EXPECT_TRUE(r.mesh.quads == first.mesh.quads) << seed;
+        // An observer with time to spare changes nothing.
+        PlentyOfTime early;
+        EXPECT_GT(generate_mesh(lc.domain, lc.rc.density, lc.options, &early).stats.layer_rounds, 0) << seed;
+    }
+}
+
 // Where no lowered round leaves every triangle at 30 degrees, the layers are grown once more
 // as at first: the user's layers are thinned only where that mends every angle. They are then
 // those of a mesh without the smoothing, which grows them once. Seed 12797 (a spoke's free end

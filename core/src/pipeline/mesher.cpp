@@ -354,6 +354,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             walls = triangulate_boundary(layers->front);
             if (options.curve_agreement) agree_interior_with_front(rho, layers->front);
         };
+        auto lap = Clock::now();  // a layers' round, its growth included
         if (!options.boundary_layers.empty()) grow();
         r.timings.boundary_ms += ms_since(t0);
 
@@ -415,12 +416,16 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             // first, and that mesh is made again (rather than kept aside: one mesh in memory).
             // (A first round without a sharp triangle beside the layers needs no other look.)
             if (!layers || options.smoothing_iterations == 0 || as_first || (round > 0 && !any_sharp(m))) break;
+            // Nor where another round as long as this one would not fit in the time left before
+            // the job's limit (Observer::seconds_left): the mesh made is kept, even a lowered
+            // round's with a sharp triangle left, rather than lost to the limit.
+            if (observer && observer->seconds_left() < 1e-3 * ms_since(lap)) break;
             if (round == kLayerRounds || !lower_columns_at_sharp_triangles(m, *layers, limits)) {
                 if (round == 0) break;
                 limits.clear();
                 as_first = true;
             }
-            t0 = Clock::now();
+            t0 = lap = Clock::now();
             grow();
             r.timings.boundary_ms += ms_since(t0);
             ++r.stats.layer_rounds;

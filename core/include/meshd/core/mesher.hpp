@@ -136,7 +136,8 @@ struct MeshStats {
     std::uint64_t refinement_points = 0;
     /// Times the boundary layers were grown again, lower beside triangles below 30 degrees,
     /// and the interior meshed again on their outer edge: at most 3, and once more as first
-    /// grown when none of those left every triangle at 30 degrees or more.
+    /// grown when none of those left every triangle at 30 degrees or more. Only where the
+    /// observer's time left (Observer::seconds_left) holds another round as long as the last.
     int layer_rounds = 0;
     /// Times the curves were placed again, finer where the mesh had a triangle below 30
     /// degrees made of fixed points alone (curve points, layer tops: a gap between curves too
