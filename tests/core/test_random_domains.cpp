@@ -288,6 +288,18 @@ TEST(RandomDomains, ARayPassingOverAColumnsFootCutsThePassingColumn) {
     }
 }
 
+// The same at a fan's corner, where the foot's column is too tall to stand whole: cut to its
+// few steps to the crossing, the whole fan went (every column of it meets the ray there). A
+// hole's 60-degree corner 0.08 from the ray of another hole's column 2.7 away kept 5 of its 25
+// layers, the outer edge fell from the wall's columns beside it in one segment 0.65 long, and
+// the interior's triangle on it had 27.1 degrees; the lowering rounds made it worse (seed
+// 48759). The fan now keeps what stays a strip below the room the cut passing column leaves.
+TEST(RandomDomains, ARayOverAFansCornerLeavesTheFanTheRoomAlongTheRay) {
+    expect_thirty_degrees_with_layers({48759u});
+    const LayeredCase lc = layered_case(48759u);
+    EXPECT_EQ(generate_mesh(lc.domain, lc.rc.density, lc.options).stats.layer_rounds, 0);
+}
+
 // A gap between two curves about the field's size: too small for the interior to put a point
 // in, it is closed by a triangle of the curves' points alone, which neither the smoothing nor
 // any interior point can mend (seed 7186 without layers: a square hole's side against a
