@@ -710,12 +710,17 @@ private:
                     if (strip < 0.0) strip = kStripShare * rho_.interior(x);
                     return top(*ray_of[r]) + strip < (1.0 - kGapShare) * tb;
                 };
+                // Whether fan column r's foot, ta along its ray, is passed over by a ray that
+                // leaves it room for more than those few steps (only asked after spared(r),
+                // which reads `strip` when the foot is passed over).
+                auto fan_room = [&](size_t r, double ta, double tb) {
+                    return in_fan[r] && ta < kGapShare * tb && (1.0 - kGapShare) * tb - strip > 0.9 * ta;
+                };
                 if (spared(ri, ti, tj)) {
                     as_boundary(rj, tj, strip);
                 } else if (spared(rj, tj, ti)) {
                     as_boundary(ri, ti, strip);
-                } else if ((in_fan[ri] && ti < kGapShare * tj && (1.0 - kGapShare) * tj - strip > 0.9 * ti) ||
-                           (in_fan[rj] && tj < kGapShare * ti && (1.0 - kGapShare) * ti - strip > 0.9 * tj)) {
+                } else if (fan_room(ri, ti, tj) || fan_room(rj, tj, ti)) {
                     // A ray over the corner of a fan whose column is too tall, whole, to stay
                     // clear of it, but with room along that ray for more than the few steps to
                     // the crossing: the passing column is still cut as by a boundary there, and
@@ -727,7 +732,7 @@ private:
                     // it in one segment, at 27 degrees to the interior's triangle on it. (Where
                     // the room is less, and on a wall's own columns, both are cut as below:
                     // a circle's columns beside a narrow gap, seed 2730, need that.)
-                    const bool i_foot = in_fan[ri] && ti < kGapShare * tj && (1.0 - kGapShare) * tj - strip > 0.9 * ti;
+                    const bool i_foot = fan_room(ri, ti, tj);
                     const size_t foot = i_foot ? ri : rj, pass = i_foot ? rj : ri;
                     const double t_pass = i_foot ? tj : ti;
                     as_boundary(pass, t_pass, strip);
