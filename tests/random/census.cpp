@@ -2,11 +2,13 @@
 // for finding and looking at the cases below 30 degrees. Not a test: the tests hold the seeds
 // this tool found once they are fixed.
 //
-//   meshd-random-census [--no-layers] FROM TO
+//   meshd-random-census [--no-layers] [--each] FROM TO
 //       meshes seeds FROM..TO with the defaults (with their boundary layers, layers_for,
 //       unless --no-layers; seeds without curves for layers are skipped then) and prints
 //       each seed whose smallest free angle is below 30 degrees or whose mesh fails
-//       check_mesh, then the counts and the mean of each domain's smallest angle.
+//       check_mesh, then the counts and the mean of each domain's smallest angle. With
+//       --each, also a line per mesh (its points and smallest free angle): two builds' lists
+//       side by side (diff) name the meshes a change touched.
 //   meshd-random-census --picture SEED [--no-layers] [--zoom Z] [--at X Y] [--half H] [--out F]
 //       writes an SVG of the mesh around the smallest angle (or around X Y): a window of Z
 //       (default 6) times the longest edge there, or of half-width H. Layer cells blue,
@@ -59,7 +61,7 @@ std::optional<Case> case_for(std::uint64_t seed, bool layers) {
     return c;
 }
 
-int census(std::uint64_t from, std::uint64_t to, bool layers) {
+int census(std::uint64_t from, std::uint64_t to, bool layers, bool each) {
     int below = 0, meshed = 0, refused = 0, invalid = 0, closed = 0;
     double sum = 0.0, points = 0.0;
     for (std::uint64_t seed = from; seed <= to; ++seed) {
@@ -75,6 +77,9 @@ int census(std::uint64_t from, std::uint64_t to, bool layers) {
             }
             sum += angle;
             points += static_cast<double>(r.quality.points);
+            if (each)
+                std::printf("seed %llu: %zu points, %.4f degrees\n", static_cast<unsigned long long>(seed), r.quality.points,
+                            angle);
             if (r.stats.layer_rounds > 3)
                 std::printf("seed %llu: %d layer rounds (none mended all: grown again as at first), %.2f degrees\n",
                             static_cast<unsigned long long>(seed), r.stats.layer_rounds, angle);
@@ -185,7 +190,7 @@ int picture(const PictureOptions& p) {
 
 int usage() {
     std::fprintf(stderr,
-                 "usage: meshd-random-census [--no-layers] FROM TO\n"
+                 "usage: meshd-random-census [--no-layers] [--each] FROM TO\n"
                  "       meshd-random-census --picture SEED [--no-layers] [--zoom Z] [--at X Y] [--half H] [--out FILE]\n");
     return 2;
 }
@@ -195,7 +200,7 @@ int usage() {
 int main(int argc, char** argv) {
     try {
         PictureOptions p;
-        bool draw = false;
+        bool draw = false, each = false;
         std::vector<std::uint64_t> range;
         for (int i = 1; i < argc; ++i) {
             const std::string a = argv[i];
@@ -205,6 +210,8 @@ int main(int argc, char** argv) {
             };
             if (a == "--no-layers") {
                 p.layers = false;
+            } else if (a == "--each") {
+                each = true;
             } else if (a == "--picture") {
                 draw = true;
                 p.seed = std::stoull(next());
@@ -225,7 +232,7 @@ int main(int argc, char** argv) {
         }
         if (draw) return range.empty() ? picture(p) : usage();
         if (range.size() != 2 || range[0] > range[1]) return usage();
-        return census(range[0], range[1], p.layers);
+        return census(range[0], range[1], p.layers, each);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "meshd-random-census: %s\n", e.what());
         return 1;
