@@ -350,6 +350,15 @@ TEST(RandomDomains, ASharpTriangleOfFixedPointsAlonePlacesTheCurvesAgainFinerThe
     EXPECT_EQ(generate_mesh(build_domain(rc.domain), rc.density, pure).stats.closing_rounds, 0);
 }
 
+// The same with one interior point in the gap: a triangular hole's 60-degree corner, a small
+// octagonal hole beside it, and the one interior point between them, which the smoothing's
+// repair could not move far enough (28.5 degrees at the corner, seed 75459 without layers).
+TEST(RandomDomains, ASharpTriangleWithOneInteriorPointAcrossAGapPlacesTheCurvesAgain) {
+    expect_thirty_degrees_without_layers({75459u});
+    const RandomCase rc = random_case(75459u);
+    EXPECT_EQ(generate_mesh(build_domain(rc.domain), rc.density, MeshOptions{}).stats.closing_rounds, 1);
+}
+
 // Two embedded lines whose free ends face each other 0.55 of the field apart: a triangle of
 // the two ends and an interior point had 27.9 degrees (seed 24033 with layers). Two free ends
 // closer than their end segments over 1.5 are now a narrow gap, both lines spaced at its

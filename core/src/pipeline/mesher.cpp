@@ -213,7 +213,9 @@ constexpr double kClosingRoom = 0.8;
 // for the interior to put a point in, closed by the curves' points alone (a square hole's side
 // and a triangular hole's corner across a gap 1.4 times the field: 23.6 degrees; two holes'
 // bare walls and a layer top between them: 28.7). No placement of interior
-// points mends them, and the smoothing cannot move their corners. The curves at their corners
+// points mends them, and the smoothing cannot move their corners. The same with one interior
+// corner, which the smoothing's repair moved as far as it could: a gap the interior put a
+// single point in (a triangular hole's corner and a small octagonal hole: 28.5). The curves at their corners
 // are capped at the shortest side over kAgreementRatio, added to `closing`: placed again
 // finer there, the curves make the interior finer beside them (the agreement's interior cap)
 // and the gap is meshed with points of its own. The mesh itself is the test of whether the
@@ -225,7 +227,8 @@ bool cap_closing_triangles(const Mesh& m, SizeCaps& closing) {
     const size_t before = closing.points.size();
     const auto fixed = [&](VertexId v) { return m.kind[v] != PointKind::Interior; };
     for (const Triangle& t : m.triangles) {
-        if (!fixed(t.v[0]) || !fixed(t.v[1]) || !fixed(t.v[2]) || !sharp(m, t)) continue;
+        const int fixed_corners = int{fixed(t.v[0])} + int{fixed(t.v[1])} + int{fixed(t.v[2])};
+        if (fixed_corners < 2 || !sharp(m, t)) continue;
         const Vec2 a = m.point(t.v[0]), b = m.point(t.v[1]), c = m.point(t.v[2]);
         const double shortest = std::fmin(distance(a, b), std::fmin(distance(b, c), distance(c, a)));
         for (const Vec2 p : {a, b, c}) {
