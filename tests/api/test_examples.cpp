@@ -71,14 +71,13 @@ TEST(Examples, ThirtyDegreesHoldWithTheDensitiesScaled) {
         smallest_angle(body, base);
         for (const double k : {0.7, 2.0, 3.0, 5.0, 8.0, 13.0}) {
             size_t points = 0;
+            // (The channel at 13 times its sizes makes its cylinder a hexagon of 0.15 sides,
+            // the wake leaving one corner: the one interior point above that corner had its
+            // best place at angles of 30, 30 and 120 exactly, and the repair's search stopped
+            // at 29.999. That triangle, two fixed corners and one interior, now takes a closing
+            // round: 70 points instead of 63, at 30.03.)
             const double angle = smallest_angle(scaled(body, k), points);
-            // The one exception: the channel at 13 times its sizes (63 points) makes its
-            // cylinder a hexagon of 0.15 sides, with the wake leaving one corner. The interior
-            // point above that corner closes a triangle of it and the next corner whose best
-            // place (the repair's search, to a millionth of a degree with a finer step) has
-            // angles of 30, 30 and 120 exactly: the search stops 0.001 degrees short of it.
-            const bool hexagon = f.filename() == "channel_wake.json" && k == 13.0;
-            EXPECT_GE(angle, hexagon ? 29.99 : 30.0) << f.filename() << " sizes x" << k;
+            EXPECT_GE(angle, 30.0) << f.filename() << " sizes x" << k;
             // The factor reached the mesh: fewer points for coarser sizes, more for finer.
             if (k < 1.0) EXPECT_GT(points, base) << f.filename() << " sizes x" << k;
             else EXPECT_LT(points, base) << f.filename() << " sizes x" << k;
