@@ -212,13 +212,13 @@ constexpr double kClosingRoom = 0.8;
 // point) with a corner sharper than 30 degrees (sharp()): a gap between two curves too small
 // for the interior to put a point in, closed by the curves' points alone (a square hole's side
 // and a triangular hole's corner across a gap 1.4 times the field: 23.6 degrees; two holes'
-// bare walls and a layer top between them: 28.7). No placement of interior
-// points mends them, and the smoothing cannot move their corners. The same with one interior
-// corner, which the smoothing's repair moved as far as it could: a gap the interior put a
-// single point in (a triangular hole's corner and a small octagonal hole: 28.5). The curves at their corners
-// are capped at the shortest side over kAgreementRatio, added to `closing`: placed again
-// finer there, the curves make the interior finer beside them (the agreement's interior cap)
-// and the gap is meshed with points of its own. The mesh itself is the test of whether the
+// bare walls and a layer top between them: 28.7). No placement of interior points mends them,
+// and the smoothing cannot move their corners. The same with one interior corner, which the
+// smoothing's repair moved as far as it could: a gap the interior put a single point in (a
+// triangular hole's corner and a small octagonal hole: 28.5). The curves at their corners are
+// capped at the shortest side over kAgreementRatio, added to `closing`: placed again finer
+// there, the curves make the interior finer beside them (the agreement's interior cap) and
+// the gap is meshed with points of its own. The mesh itself is the test of whether the
 // interior could open the gap, which the walls alone cannot tell. Only a smoothed mesh is
 // looked at, as for the layers' rounds: without the smoothing's flips many more triangles
 // of fixed points stay sharp, and a mesh asked for unsmoothed is the paper's placement as it

@@ -141,7 +141,7 @@ struct MeshStats {
     int layer_rounds = 0;
     /// Times the curves were placed again, finer where the mesh had a triangle below 30
     /// degrees made of fixed points alone (curve points, layer tops: a gap between curves too
-    /// small for an interior point) or of two and one interior point, and everything after
+    /// small for an interior point) or of two of them and one interior point, and everything after
     /// them made again: at most 2, with
     /// the curves' agreement and the smoothing on, for a mesh below 80% of max_points, and
     /// where the observer's time left (Observer::seconds_left) holds another round.
