@@ -161,6 +161,7 @@ public:
         std::uint64_t total = 0;
         std::vector<std::uint32_t> moved;
         for (int round = 0; round < kRepairRounds && !suspects.empty(); ++round) {
+            poll(true);
             repair_round(suspects, moved);
             total += moved.size();
             ++stamp_;
@@ -178,6 +179,16 @@ public:
     }
 
 private:
+    // The repair's rounds can be long where the field changes faster than the mesh can follow
+    // (every corner of thousands of triangles searched, eight rounds): the observer is asked
+    // at each round and every kPollEvery corners or triangles within one, so a cancelled or
+    // late job stops there.
+    static constexpr std::uint32_t kPollEvery = 64;
+    void poll(bool now = false) {
+        if (observer_ == nullptr || (!now && ++polls_ % kPollEvery != 0)) return;
+        if (observer_->should_stop()) throw Cancelled();
+    }
+
     static std::vector<Vec2> points_of(const Mesh& m) {
         std::vector<Vec2> pts;
         detail::reserve_filled(pts, m.point_count());
@@ -208,8 +219,10 @@ private:
         auto move_each = [&](auto&& move) {
             std::sort(corners.begin(), corners.end());
             corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-            for (const std::uint32_t v : corners)
+            for (const std::uint32_t v : corners) {
+                poll();
                 if (move(v)) settle(v);
+            }
         };
         const std::vector<TriangleId> initial = low;  // before the moves
         move_each([&](std::uint32_t v) { return optimise(v); });
@@ -220,6 +233,7 @@ private:
             std::sort(list.begin(), list.end());
             list.erase(std::unique(list.begin(), list.end()), list.end());
             for (const TriangleId t : list) {
+                poll();
                 if (!bad(t, cot_limit)) continue;  // an earlier move or flip may have mended it
                 const auto& v = m_.triangles[t].v;
                 if (fixed_only && std::any_of(v.begin(), v.end(), [&](auto w) { return m_.kind[w] == PointKind::Interior; }))
@@ -306,7 +320,7 @@ private:
                 const double s = t + d;
                 if (s <= lo || s >= hi) continue;
                 pts_[v] = g.point(s);
-                const double f = star_score();
+                const double f = star_score(best);
                 if (f > best) {
                     best = f;
                     best_t = s;
@@ -415,6 +429,7 @@ private:
     // With `closed` false the fan may be open (v on a loop).
     bool walk_star(std::uint32_t v, bool closed = true) {
         star_.clear();
+        first_ = 0;
         soup_.around(v, [&](TriangleId t) {
             star_.push_back(t);
             return star_.size() > 64;
@@ -469,12 +484,23 @@ private:
     }
 
     // The score (angle_score) of the smallest angle in star_, -1 when a triangle is inverted.
-    double star_score() const {
+    // With `floor`: once a triangle scores at or below it, that score (the star's smallest is
+    // no higher). The searches below only ask whether a trial beats their best so far, and
+    // most trials do not: they stop at the first triangle that says so, starting from the
+    // one that said so last time (a step that spoils one triangle usually spoils it again).
+    // A trial that beats the best reads every triangle, so its score is exact.
+    double star_score(double floor = -HUGE_VAL) {
+        const size_t n = star_.size();
         double worst = 1.0;
-        for (const TriangleId t : star_) {
-            const Triangle& T = m_.triangles[t];
+        size_t i = first_ < n ? first_ : 0;
+        for (size_t k = 0; k < n; ++k) {
+            const Triangle& T = m_.triangles[star_[i]];
             worst = std::min(worst, angle_score(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]));
-            if (worst < 0.0) break;
+            if (worst <= floor || worst < 0.0) {
+                first_ = i;
+                break;
+            }
+            i = i + 1 == n ? 0 : i + 1;
         }
         return worst;
     }
@@ -499,7 +525,7 @@ private:
             Vec2 best_q = p;
             for (const Vec2& d : dirs) {
                 pts_[v] = p + h * d;
-                const double f = star_score();
+                const double f = star_score(best);
                 if (f > best) {
                     best = f;
                     best_q = pts_[v];
@@ -549,6 +575,8 @@ private:
     detail::HugeVector<std::uint32_t> seen_;
     std::uint32_t stamp_ = 0;
     std::vector<TriangleId> star_, changed_;
+    size_t first_ = 0;  // where star_score starts (the triangle that last stopped it)
+    std::uint32_t polls_ = 0;
     detail::HugeVector<std::uint32_t> offset_;
     detail::HugeVector<std::array<std::uint32_t, 2>> opposite_;
     std::vector<std::pair<TriangleId, std::uint32_t>> queue_;
