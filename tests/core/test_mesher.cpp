@@ -474,6 +474,37 @@ TEST(Mesher, AGradedFieldOverTheLimitIsRefusedDuringSampling) {
     EXPECT_LT(polls.n, 1000);
 }
 
+// A gradation grades away from a fine region narrower than the boundary's triangles. Sizes of
+// 0.001 in a strip 0.01 wide along the left wall of a unit square and 0.2 beyond, graded at
+// 1.5 (a slope of 0.5): the field's samples came from the centroids of the boundary's
+// triangles, slivers from wall to wall, none of them in the strip, so the graded field rose
+// from the wall's own points and stood at six times the graded bound at the strip's edge (508
+// of the 742 points beyond the strip above twice that bound; 0.897 of the edges within sqrt 2
+// of the field). The slivers along the fine wall are now split along their length.
+TEST(Mesher, AGradationGradesAwayFromAFineStripAlongAWall) {
+    const Domain dom = build_domain(unit_square());
+    const double w = 0.01, h = 0.001, g = 1.5;
+    DensitySpec d;
+    d.size = std::string("x < 0.01 ? 0.001 : 0.2");
+    d.gradation = g;
+    const MeshResult r = generate_mesh(dom, d);
+    expect_valid(r.mesh, "strip");
+    // The bound the gradation promises beyond the strip: h + (g - 1) * the distance from it.
+    // Its samples are at about the local size, so a point may see the strip's nearest sample
+    // some sizes inside it: twice the bound is well beyond that.
+    size_t beyond = 0, above = 0;
+    for (VertexId v = 0; v < r.mesh.point_count(); ++v) {
+        const Vec2 p = r.mesh.point(v);
+        if (p.x <= w) continue;
+        ++beyond;
+        above += r.mesh.target_size[v] > 2.0 * (h + (g - 1.0) * (p.x - w)) ? 1 : 0;
+    }
+    ASSERT_GT(beyond, 100u);
+    EXPECT_LT(static_cast<double>(above), 0.02 * static_cast<double>(beyond)) << above << " of " << beyond;
+    EXPECT_GE(r.quality.size_ratio_within_sqrt2, 0.95);
+    EXPECT_GE(r.quality.angle_min, 30.0);
+}
+
 // Every stage honours the observer: stopping as soon as a stage has reported progress ends
 // the run with Cancelled inside that stage (the boundary, the interior, the triangulation
 // and the smoothing each poll on their own; the pipeline announces each stage as it begins,
