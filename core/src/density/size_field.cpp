@@ -130,7 +130,7 @@ void SizeField::refuse(const Source& s, Vec2 p, double v) const {
 
 double SizeField::on_curve(CurveId c, Vec2 p) const {
     double h = eval(sources_[*curve_source_[c]], p);
-    if (graded_) h = std::fmax(std::fmin(h, (*graded_)(p)), min_);
+    if (graded_) h = std::fmax(graded_->capped(p, h), min_);
     if (curve_cap_) h = std::fmax(curve_cap_->capped(p, h), min_);
     if (cap_) h = std::fmax(cap_->capped(p, h), min_);
     return h;
@@ -174,7 +174,7 @@ double SizeField::interior_scattered(Vec2 p) const {
 // The field inside from its raw value at p (the expression's, or eq. 6.1's): the gradation
 // and the caps.
 double SizeField::interior_from(Vec2 p, double h) const {
-    if (graded_) h = std::fmax(std::fmin(h, (*graded_)(p)), min_);
+    if (graded_) h = std::fmax(graded_->capped(p, h), min_);
     if (interior_cap_) h = std::fmax(interior_cap_->capped(p, h), min_);
     if (cap_) h = std::fmax(cap_->capped(p, h), min_);
     return h;
