@@ -69,7 +69,7 @@ const std::vector<Option>& options() {
          [](Config& c, const std::string& v) { c.job_ttl_s = to_double("--job-ttl-s", v, 0.0); }},
         {"--result-memory-mb", "MESHD_RESULT_MEMORY_MB", "memory for kept results, oldest evicted first (default 1024)",
          [](Config& c, const std::string& v) { c.result_memory_bytes = static_cast<size_t>(to_int("--result-memory-mb", v, 1, 1 << 20)) << 20; }},
-        {"--memory-budget-mb", "MESHD_MEMORY_BUDGET_MB", "memory of running jobs together, by their forecasts; larger jobs wait, one larger than this gets 413 (default 1536)",
+        {"--memory-budget-mb", "MESHD_MEMORY_BUDGET_MB", "memory of running jobs together, by their forecasts (raised as a mesh outgrows its own); larger jobs wait, one larger than this gets 413 (default 1536)",
          [](Config& c, const std::string& v) { c.memory_budget_bytes = static_cast<size_t>(to_int("--memory-budget-mb", v, 16, 1 << 24)) << 20; }},
         {"--max-finished-jobs", "MESHD_MAX_FINISHED_JOBS", "finished jobs kept, oldest dropped first (default 10000)",
          [](Config& c, const std::string& v) { c.max_finished_jobs = static_cast<size_t>(to_int("--max-finished-jobs", v, 1, 10'000'000)); }},

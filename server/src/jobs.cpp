@@ -53,7 +53,17 @@ public:
     double seconds_left() override {
         return std::chrono::duration<double>(deadline_ - std::chrono::steady_clock::now()).count();
     }
-    void on_forecast(double, std::size_t peak_bytes) override {
+    void on_forecast(double points, std::size_t peak_bytes) override {
+        if (reserved_ > 0) {
+            // The mesh outgrew its forecast: the reservation follows it, without waiting (the
+            // run holds its memory; two such runs waiting on each other would wait to their
+            // limits), and a run that would need more than the whole budget stops here.
+            if (peak_bytes > reserved_) {
+                manager_.grow_memory(reserved_, peak_bytes, points);
+                reserved_ = peak_bytes;
+            }
+            return;
+        }
         {
             std::lock_guard<std::mutex> lock(job_.m);
             job_.stage = "waiting for memory";
@@ -469,6 +479,20 @@ void JobManager::reserve_memory(size_t bytes, const std::function<bool()>& stop)
     }
     --memory_waiting_;
     memory_reserved_ += bytes;
+    metrics_.set_memory(memory_reserved_, memory_waiting_, budget);
+}
+
+void JobManager::grow_memory(size_t from, size_t to, double points) {
+    const size_t budget = config_.memory_budget_bytes;
+    if (to > budget)
+        throw JobRefused{api::Problem{413, "/v1/problems/memory-budget", "Mesh too large for this server",
+                                      "the mesh grew past its forecast to " + std::to_string(static_cast<long long>(points)) +
+                                          " points and more, which need about " + megabytes(to) +
+                                          " while meshing, more than the server's budget of " + megabytes(budget) +
+                                          " (--memory-budget-mb): ask for fewer points",
+                                      "/density"}};
+    std::lock_guard<std::mutex> lock(memory_m_);
+    memory_reserved_ += to - from;
     metrics_.set_memory(memory_reserved_, memory_waiting_, budget);
 }
 

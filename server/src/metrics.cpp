@@ -110,7 +110,7 @@ std::string Metrics::render() const {
     o += "# HELP meshd_workers_busy Workers meshing now.\n# TYPE meshd_workers_busy gauge\nmeshd_workers_busy " + std::to_string(busy_) + "\n";
     o += "# HELP meshd_jobs_kept Job records held (queued, running, finished and still answerable).\n"
          "# TYPE meshd_jobs_kept gauge\nmeshd_jobs_kept " + std::to_string(jobs_kept_) + "\n";
-    o += "# HELP meshd_memory_reserved_bytes Memory reserved by running jobs (their forecast peaks).\n"
+    o += "# HELP meshd_memory_reserved_bytes Memory reserved by running jobs (their forecast peaks, grown with a mesh that outgrew its forecast).\n"
          "# TYPE meshd_memory_reserved_bytes gauge\nmeshd_memory_reserved_bytes " + std::to_string(memory_reserved_) + "\n";
     o += "# HELP meshd_memory_budget_bytes Memory running jobs may reserve together.\n"
          "# TYPE meshd_memory_budget_bytes gauge\nmeshd_memory_budget_bytes " + std::to_string(memory_budget_) + "\n";

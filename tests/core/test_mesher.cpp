@@ -505,6 +505,37 @@ TEST(Mesher, AGradationGradesAwayFromAFineStripAlongAWall) {
     EXPECT_GE(r.quality.angle_min, 30.0);
 }
 
+// The memory of a run is reserved by its forecast (Observer::on_forecast). A fine region
+// narrower than the forecast's samples (0.001 within 0.01 of a wall, 0.2 beyond) holds about
+// ten times the points forecast, so the interior stage tells the observer again each time its
+// count passes twice the forecast, four times it, and so on: the count then, and the memory a
+// run of that size needs.
+TEST(Mesher, TheObserverHearsOfAMeshOutgrowingItsForecast) {
+    const Domain dom = build_domain(unit_square());
+    DensitySpec d;
+    d.size = std::string("x < 0.01 ? 0.001 : 0.2");
+    struct Forecasts : Observer {
+        std::vector<std::pair<double, size_t>> heard;
+        void on_forecast(double points, size_t bytes) override { heard.emplace_back(points, bytes); }
+    } obs;
+    MeshOptions o;
+    o.curve_agreement = false;  // no closing round: one interior stage, one run of reports
+    const MeshResult r = generate_mesh(dom, d, o, &obs);
+    ASSERT_EQ(r.stats.closing_rounds, 0u);
+    ASSERT_FALSE(obs.heard.empty());
+    const double forecast = std::floor(obs.heard[0].first);
+    const double made = static_cast<double>(r.mesh.point_count());
+    ASSERT_GT(made, 4.0 * forecast) << "not the case this test is for";
+    // One report for each doubling of the forecast the mesh passed, at the first point past it.
+    std::vector<double> expected;
+    for (double at = 2.0 * forecast; at < made; at *= 2.0) expected.push_back(at + 1.0);
+    ASSERT_EQ(obs.heard.size(), expected.size() + 1);
+    for (size_t k = 0; k < expected.size(); ++k) {
+        EXPECT_EQ(obs.heard[k + 1].first, expected[k]);
+        EXPECT_EQ(obs.heard[k + 1].second, peak_bytes_for(expected[k]));
+    }
+}
+
 // Every stage honours the observer: stopping as soon as a stage has reported progress ends
 // the run with Cancelled inside that stage (the boundary, the interior, the triangulation
 // and the smoothing each poll on their own; the pipeline announces each stage as it begins,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <string>
 
@@ -84,6 +85,8 @@ public:
         detail::reserve_huge(front_, 2 * n);
         points_.reserve(n);
         segments_.reserve(n / 2 * 9);
+        // No forecast (0): nothing to report against.
+        report_at_ = budget.expected_points ? 2 * std::max(budget.expected_points, nb) : SIZE_MAX;
         for (VertexId v = 0; v < nb; ++v) add_point(d.point(v), d.rho[v], kNoTriangle);
         boundary_count_ = nb;
         for (size_t i = 0; i < d.segments.size(); ++i) {
@@ -123,6 +126,12 @@ private:
         if (max_points_ && pts_.size() > max_points_)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
                                 "the mesh needs more than " + std::to_string(max_points_) + " points");
+        if (pts_.size() > report_at_) {
+            // Past twice what was forecast, and at each doubling after: the memory reserved
+            // for the forecast no longer covers the run (Observer::on_forecast).
+            report_at_ *= 2;
+            if (obs_) obs_->on_forecast(static_cast<double>(pts_.size()), peak_bytes_for(static_cast<double>(pts_.size())));
+        }
     }
 
     void push_segment(std::uint32_t a, std::uint32_t b, bool boundary) {
@@ -396,6 +405,7 @@ private:
     detail::HugeVector<FrontSegment> front_;
     detail::HugeVector<std::uint32_t> stack_;
     size_t closings_ = 0, closings_attempted_ = 0;
+    size_t report_at_ = SIZE_MAX;  // the next count the observer hears of
     CellGrid<GridPoint> points_;
     std::array<double, SizeClasses::kMax + 1> largest_rho_{};  // of the points in each class
     CellGrid<GridSegment, true> segments_;

@@ -31,8 +31,10 @@ namespace meshd::core {
 /// `rho` must be ready for interior queries (set_interpolation_sources for eq. 6.1);
 /// `walls` is the constrained triangulation of `boundary` (triangulate_boundary). Refuses
 /// (TooManyPoints) beyond `max_points` points in all (0: no limit); `expected_points` (the
-/// admission forecast, 0: unknown) sizes the arrays once instead of growing them. Throws
-/// GeometryError (density invalid, too many points) or Cancelled.
+/// admission forecast, 0: unknown) sizes the arrays once instead of growing them, and each
+/// time the points in all pass twice it, four times it and so on, the observer hears the
+/// count (Observer::on_forecast). Throws GeometryError (density invalid, too many points),
+/// Cancelled, or what the observer throws.
 struct InteriorBudget {
     size_t max_points = 0;
     size_t expected_points = 0;

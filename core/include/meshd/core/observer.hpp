@@ -28,6 +28,10 @@ public:
     /// forecast to have and the memory a run of that size needs at its peak
     /// (peak_bytes_for() of mesher.hpp). An observer may wait here (until memory is free) or
     /// throw to refuse the job; the pipeline lets its exception through.
+    /// Called again, with more points, each time the interior stage doubles the count it was
+    /// forecast (twice the forecast, four times...): a size field with a fine region narrower
+    /// than the forecast's samples can hold many times the points forecast. The run holds its
+    /// memory by then, so an observer should not wait here; it may throw to stop the run.
     virtual void on_forecast(double points, std::size_t peak_bytes) { (void)points; (void)peak_bytes; }
 };
 

@@ -143,6 +143,11 @@ public:
     /// `bytes` exceed the whole budget.
     void reserve_memory(size_t bytes, const std::function<bool()>& stop);
     void release_memory(size_t bytes);
+    /// A running job's reservation grows from `from` to `to` bytes (its mesh outgrew the
+    /// forecast, now at `points`): at once, even past the budget beside the other running
+    /// jobs (jobs waiting for memory wait longer). Throws JobRefused (413) when `to` exceeds the
+    /// whole budget: the job stops.
+    void grow_memory(size_t from, size_t to, double points);
 
 private:
     void work();
