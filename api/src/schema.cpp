@@ -225,7 +225,11 @@ json metrics() {
               {"scaled_jacobian_min", number()}}}}},
           {"timings_ms", {{"type", "object"}, {"additionalProperties", number()}}},
           {"predicates_exact",
-           {{"type", "object"}, {"additionalProperties", {{"type", "integer"}}}}}}}};
+           {{"type", "object"}, {"additionalProperties", {{"type", "integer"}}}}},
+          {"gradation_applied",
+           {{"type", "number"},
+            {"description", "present when the request gave no density.gradation and its size field jumped "
+                            "faster than one element can follow: the gradation the mesh was made with"}}}}}};
 }
 
 }  // namespace

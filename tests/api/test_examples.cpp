@@ -20,13 +20,15 @@ using namespace meshd;
 
 namespace {
 
-std::vector<std::filesystem::path> examples() {
+std::vector<std::filesystem::path> requests_in(const std::string& dir) {
     std::vector<std::filesystem::path> out;
-    for (const auto& e : std::filesystem::directory_iterator(MESHD_SOURCE_DIR "/examples"))
+    for (const auto& e : std::filesystem::directory_iterator(MESHD_SOURCE_DIR "/" + dir))
         if (e.path().extension() == ".json") out.push_back(e.path());
     std::sort(out.begin(), out.end());
     return out;
 }
+
+std::vector<std::filesystem::path> examples() { return requests_in("examples"); }
 
 // The request with every size it names multiplied by k: an expression density's size (and
 // its max), or eq. 6.1's curve sizes (and its floor).
@@ -42,10 +44,11 @@ std::string scaled(const std::string& body, double k) {
     return j.dump();
 }
 
-double smallest_angle(const std::string& body, size_t& points) {
+double smallest_angle(const std::string& body, size_t& points, double* gradation_applied = nullptr) {
     const api::MeshRequest r = api::parse_request(body);
     const core::MeshResult m = core::generate_mesh(r.geometry, r.density, r.options);
     points = m.mesh.point_count();
+    if (gradation_applied) *gradation_applied = m.stats.gradation_applied;
     return test::smallest_free_angle(m.mesh).first;
 }
 
@@ -56,10 +59,32 @@ TEST(Examples, EveryExampleMeshesAtThirtyDegreesOrMore) {
     ASSERT_GE(files.size(), 7u);
     for (const auto& f : files) {
         size_t points = 0;
-        const double angle = smallest_angle(test::read_file(f.string()), points);
+        double graded = -1.0;
+        const double angle = smallest_angle(test::read_file(f.string()), points, &graded);
         EXPECT_GE(angle, 30.0) << f.filename();
         EXPECT_GT(points, 500u) << f.filename();
+        // Their fields follow the mesh: none is made again with the jump gradation.
+        EXPECT_EQ(graded, 0.0) << f.filename();
     }
+}
+
+// bench/hard/: sizes that jump 10- to 400-fold across a line or swing every 0.1, channels
+// 100 and 1,000 times longer than wide, holes and embedded lines 0.001 from a wall or from
+// each other, curve sizes 50 times off the interior's, thin and open airfoils. With the
+// defaults, each at 30 degrees or more: the jumps and the swings by the jump gradation
+// (MeshOptions::jump_gradation; before it, 24.3 and 29.95 on two of them).
+TEST(Examples, EveryHardRequestMeshesAtThirtyDegreesOrMore) {
+    const auto files = requests_in("bench/hard");
+    ASSERT_GE(files.size(), 20u);
+    size_t graded_count = 0;
+    for (const auto& f : files) {
+        size_t points = 0;
+        double graded = -1.0;
+        const double angle = smallest_angle(test::read_file(f.string()), points, &graded);
+        EXPECT_GE(angle, 30.0) << f.filename();
+        graded_count += graded > 0.0 ? 1 : 0;
+    }
+    EXPECT_GE(graded_count, 3u);  // the jumps, at least
 }
 
 // From twice the points to a few dozen: the coarsest meshes, where a curve's few segments

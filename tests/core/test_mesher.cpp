@@ -224,7 +224,9 @@ TEST(Mesher, GradationLimitsHowFastSizesGrow) {
     const MeshResult r = generate_mesh(dom, spec);
     expect_valid(r.mesh, "graded");
     spec.gradation.reset();
-    const MeshResult q = generate_mesh(dom, spec);
+    MeshOptions raw_jump;
+    raw_jump.jump_gradation = 0.0;  // the field as asked (by default, its jump gets a gradation)
+    const MeshResult q = generate_mesh(dom, spec, raw_jump);
     EXPECT_GT(r.quality.quality_min, q.quality.quality_min);
     std::printf("[ gradation ] %zu points (without: %zu), worst radius ratio %.3f (without: %.3f)\n",
                 r.mesh.point_count(), q.mesh.point_count(), r.quality.quality_min, q.quality.quality_min);
@@ -520,6 +522,7 @@ TEST(Mesher, TheObserverHearsOfAMeshOutgrowingItsForecast) {
     } obs;
     MeshOptions o;
     o.curve_agreement = false;  // no closing round: one interior stage, one run of reports
+    o.jump_gradation = 0.0;     // nor a mesh made again with a gradation
     const MeshResult r = generate_mesh(dom, d, o, &obs);
     ASSERT_EQ(r.stats.closing_rounds, 0u);
     ASSERT_FALSE(obs.heard.empty());
@@ -534,6 +537,49 @@ TEST(Mesher, TheObserverHearsOfAMeshOutgrowingItsForecast) {
         EXPECT_EQ(obs.heard[k + 1].first, expected[k]);
         EXPECT_EQ(obs.heard[k + 1].second, peak_bytes_for(expected[k]));
     }
+}
+
+// A size field that jumps faster than one element can follow (a strip of 0.001 along a wall,
+// 0.2 beyond; a refinement box tenfold finer across a line) left triangles below 30 degrees
+// that no smoothing lifts (27.3 and 30.1 here, after a closing round). Where the request gives
+// no gradation, the interior stage now counts the candidates more than three times off both
+// ends of their segment, and past a few the mesh is made again with a gradation of 1.5.
+TEST(Mesher, AFieldThatJumpsIsMadeAgainWithAGradation) {
+    const Domain dom = build_domain(unit_square());
+    for (const char* size : {"x < 0.02 ? 0.001 : 0.2", "x < 0.5 ? 0.01 : 0.1"}) {
+        DensitySpec d;
+        d.size = std::string(size);
+        const MeshResult r = generate_mesh(dom, d);
+        expect_valid(r.mesh, size);
+        EXPECT_EQ(r.stats.gradation_applied, 1.5) << size;
+        EXPECT_GE(r.quality.angle_min, 30.0) << size;
+        // The same as asking for that gradation: the first, jumping, mesh is not kept.
+        DensitySpec asked = d;
+        asked.gradation = 1.5;
+        const MeshResult same = generate_mesh(dom, asked);
+        EXPECT_EQ(same.stats.gradation_applied, 0.0) << size;
+        EXPECT_EQ(same.mesh.x, r.mesh.x) << size;
+        EXPECT_EQ(same.mesh.y, r.mesh.y) << size;
+    }
+    // A gradation the request gives is kept, jumps or not, and so is a field with none when
+    // the jump gradation is off.
+    DensitySpec own;
+    own.size = std::string("x < 0.5 ? 0.01 : 0.1");
+    own.gradation = 4.0;
+    EXPECT_EQ(generate_mesh(dom, own).stats.gradation_applied, 0.0);
+    MeshOptions off;
+    off.jump_gradation = 0.0;
+    DensitySpec raw;
+    raw.size = own.size;
+    const MeshResult r = generate_mesh(dom, raw, off);
+    EXPECT_EQ(r.stats.gradation_applied, 0.0);
+    EXPECT_GT(r.stats.interior.jumps, 16u);
+    // A field that changes gently never jumps.
+    DensitySpec gentle;
+    gentle.size = std::string("0.01 + 0.1 * x");
+    const MeshResult g = generate_mesh(dom, gentle);
+    EXPECT_EQ(g.stats.interior.jumps, 0u);
+    EXPECT_EQ(g.stats.gradation_applied, 0.0);
 }
 
 // Every stage honours the observer: stopping as soon as a stage has reported progress ends

@@ -46,6 +46,7 @@ std::string metrics_json(const MeshResult& r) {
                        {"smoothing", r.timings.smoothing_ms},
                        {"total", r.timings.total_ms}};
     j["predicates_exact"] = {{"orient", r.stats.orient_exact}, {"incircle", r.stats.incircle_exact}};
+    if (r.stats.gradation_applied > 0.0) j["gradation_applied"] = r.stats.gradation_applied;
     return j.dump();
 }
 

@@ -85,6 +85,8 @@ public:
         detail::reserve_huge(front_, 2 * n);
         points_.reserve(n);
         segments_.reserve(n / 2 * 9);
+        jumps_to_stop_ = budget.jumps_to_stop;
+        candidates_at_start_ = stats_.candidates;
         // No forecast (0): nothing to report against.
         report_at_ = budget.expected_points ? 2 * std::max(budget.expected_points, nb) : SIZE_MAX;
         for (VertexId v = 0; v < nb; ++v) add_point(d.point(v), d.rho[v], kNoTriangle);
@@ -354,6 +356,12 @@ private:
                 if (moved) rc = rho_.interior(c);
             }
         }
+        if (rc > kFieldJump * std::fmax(ra, rb) || kFieldJump * rc < std::fmin(ra, rb)) {
+            ++stats_.jumps;
+            // Jumps are counted from this stage's start: the closing rounds run it again.
+            if (jumps_to_stop_ && ++jumps_ >= jumps_to_stop_ + (stats_.candidates - candidates_at_start_) / 1024)
+                throw FieldJumps{};
+        }
         // The cheap local tests first: (4.22) rejects about half of all candidates.
         if (const std::uint32_t p = near_other_point(c, rc, seg.a, seg.b); p != kNoPoint) {
             ++stats_.rejected_near;
@@ -406,6 +414,7 @@ private:
     detail::HugeVector<std::uint32_t> stack_;
     size_t closings_ = 0, closings_attempted_ = 0;
     size_t report_at_ = SIZE_MAX;  // the next count the observer hears of
+    std::uint64_t jumps_to_stop_ = 0, jumps_ = 0, candidates_at_start_ = 0;
     CellGrid<GridPoint> points_;
     std::array<double, SizeClasses::kMax + 1> largest_rho_{};  // of the points in each class
     CellGrid<GridSegment, true> segments_;

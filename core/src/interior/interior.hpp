@@ -38,7 +38,13 @@ namespace meshd::core {
 struct InteriorBudget {
     size_t max_points = 0;
     size_t expected_points = 0;
+    /// Throw FieldJumps once this many candidates (and one more per 1,024 candidates made)
+    /// have a size more than kFieldJump times off both ends of their segment; 0: never.
+    std::uint64_t jumps_to_stop = 0;
 };
+/// Thrown by generate_interior_points (InteriorBudget::jumps_to_stop): the size field
+/// changes faster than the front can follow. The pipeline catches it.
+struct FieldJumps {};
 std::vector<Vec2> generate_interior_points(const Domain& domain, const Discretisation& boundary,
                                            const BoundaryTriangulation& walls, const SizeField& rho,
                                            const InteriorOptions& options = {}, InteriorBudget budget = {},

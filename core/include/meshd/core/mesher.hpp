@@ -32,6 +32,11 @@ enum class SplineSpacing {
 };
 
 /// The advancing front of the interior points (section 4).
+/// A candidate point whose size is more than this many times larger or smaller than both ends
+/// of its segment is a jump of the size field: one element cannot follow it (MeshOptions::
+/// jump_gradation).
+inline constexpr double kFieldJump = 3.0;
+
 struct InteriorOptions {
     /// Correct C so that |AC| = (rho(A) + rho(C)) / 2 and |BC| = (rho(B) + rho(C)) / 2 (4.4).
     bool newton = true;
@@ -95,6 +100,13 @@ struct MeshOptions {
     /// to agree with it (pipeline/agreement.hpp). Off: the curves keep their own density
     /// (the paper's placement, slivers included), what the tests of min_angle_deg start from.
     bool curve_agreement = true;
+    /// Where the request gives no gradation and the interior stage finds the size field
+    /// jumping (kFieldJump) at 16 candidates and more (one more per 1,024 made), the mesh is
+    /// made again from the boundary with this gradation (MeshStats::gradation_applied): a
+    /// refinement box or strip whose size changes tenfold across a line leaves triangles
+    /// below 30 degrees that no smoothing lifts. 0: never; nor with curve_agreement off (the
+    /// gradation places the curves again, along the limited field).
+    double jump_gradation = 1.5;
     /// 1: straight 3-node triangles; 2: 6-node triangles whose edge nodes on the curves lie
     /// on the curves (Mesh::edge_nodes).
     int order = 1;
@@ -111,6 +123,9 @@ struct InteriorStats {
     std::uint64_t rejected_near = 0;      ///< (4.22)
     std::uint64_t rejected_crossing = 0;  ///< AC or BC crosses the front
     std::uint64_t rejected_outside = 0;   ///< outside the domain or across a constraint
+    /// Candidates whose size is more than kFieldJump times off both ends of their segment (the
+    /// field changes faster than one element can follow).
+    std::uint64_t jumps = 0;
 };
 
 struct TriangulationStats {
@@ -146,6 +161,9 @@ struct MeshStats {
     /// the curves' agreement and the smoothing on, for a mesh below 80% of max_points, and
     /// where the observer's time left (Observer::seconds_left) holds another round.
     int closing_rounds = 0;
+    /// The gradation the mesh was made with where the request gave none and its size field
+    /// jumped (MeshOptions::jump_gradation); 0 when none was applied.
+    double gradation_applied = 0.0;
     /// Predicate calls the floating-point filter could not settle (exact stage).
     std::uint64_t orient_exact = 0, incircle_exact = 0;
 };
