@@ -62,7 +62,7 @@ std::optional<Case> case_for(std::uint64_t seed, bool layers) {
 }
 
 int census(std::uint64_t from, std::uint64_t to, bool layers, bool each) {
-    int below = 0, meshed = 0, refused = 0, invalid = 0, closed = 0;
+    int below = 0, meshed = 0, refused = 0, invalid = 0, closed = 0, graded = 0;
     double sum = 0.0, points = 0.0;
     for (std::uint64_t seed = from; seed <= to; ++seed) {
         const auto c = case_for(seed, layers);
@@ -83,6 +83,12 @@ int census(std::uint64_t from, std::uint64_t to, bool layers, bool each) {
             if (r.stats.layer_rounds > 3)
                 std::printf("seed %llu: %d layer rounds (none mended all: grown again as at first), %.2f degrees\n",
                             static_cast<unsigned long long>(seed), r.stats.layer_rounds, angle);
+            if (r.stats.gradation_applied > 0.0) {
+                ++graded;
+                std::printf("seed %llu: made again with the jump gradation (%llu jumps), %.2f degrees\n",
+                            static_cast<unsigned long long>(seed), static_cast<unsigned long long>(r.stats.interior.jumps),
+                            angle);
+            }
             if (r.stats.closing_rounds > 0) {
                 ++closed;
                 std::printf("seed %llu: %d closing rounds, %.2f degrees\n", static_cast<unsigned long long>(seed),
@@ -105,8 +111,8 @@ int census(std::uint64_t from, std::uint64_t to, bool layers, bool each) {
         }
     }
     std::printf("%d of %d meshes below 30 degrees (%d refused, %d invalid); mean smallest angle %.3f; %.0f points; "
-                "%d with closing rounds\n",
-                below, meshed, refused, invalid, sum / std::max(meshed, 1), points, closed);
+                "%d with closing rounds; %d with the jump gradation\n",
+                below, meshed, refused, invalid, sum / std::max(meshed, 1), points, closed, graded);
     return 0;
 }
 
