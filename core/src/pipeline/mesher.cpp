@@ -389,6 +389,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
                 inner = generate_interior_points(domain, fixed, walls, rho, options.interior, budget, observer,
                                                  &r.stats.interior);
             } catch (const FieldJumps&) {
+                r.timings.interior_ms += ms_since(t0);
                 jumped = true;
                 break;
             }
@@ -454,6 +455,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             // Everything again from the boundary, with the jump gradation; not a closing round.
             graded.gradation = options.jump_gradation;
             r.stats.gradation_applied = options.jump_gradation;
+            t0 = Clock::now();  // the boundary's time from here
             --closing_round;
             continue;
         }
