@@ -83,6 +83,14 @@ private:
 
 std::string megabytes(size_t bytes) { return std::to_string((bytes + (size_t{1} << 20) - 1) >> 20) + " MB"; }
 
+// 413 memory-budget: `need` says what the mesh needs while meshing (a forecast, or what it grew to).
+JobRefused over_budget(const std::string& need, size_t budget) {
+    return JobRefused{api::Problem{413, "/v1/problems/memory-budget", "Mesh too large for this server",
+                                   need + " while meshing, more than the server's budget of " + megabytes(budget) +
+                                       " (--memory-budget-mb): ask for fewer points",
+                                   "/density"}};
+}
+
 }  // namespace
 
 JobManager::JobManager(const Config& config, Metrics& metrics) : config_(config), metrics_(metrics) {
@@ -459,12 +467,7 @@ void JobManager::run(const std::shared_ptr<Job>& job) {
 
 void JobManager::reserve_memory(size_t bytes, const std::function<bool()>& stop) {
     const size_t budget = config_.memory_budget_bytes;
-    if (bytes > budget)
-        throw JobRefused{api::Problem{413, "/v1/problems/memory-budget", "Mesh too large for this server",
-                                      "the mesh is forecast to need about " + megabytes(bytes) +
-                                          " while meshing, more than the server's budget of " + megabytes(budget) +
-                                          " (--memory-budget-mb): ask for fewer points",
-                                      "/density"}};
+    if (bytes > budget) throw over_budget("the mesh is forecast to need about " + megabytes(bytes), budget);
     std::unique_lock<std::mutex> lock(memory_m_);
     ++memory_waiting_;
     metrics_.set_memory(memory_reserved_, memory_waiting_, budget);
@@ -485,12 +488,9 @@ void JobManager::reserve_memory(size_t bytes, const std::function<bool()>& stop)
 void JobManager::grow_memory(size_t from, size_t to, double points) {
     const size_t budget = config_.memory_budget_bytes;
     if (to > budget)
-        throw JobRefused{api::Problem{413, "/v1/problems/memory-budget", "Mesh too large for this server",
-                                      "the mesh grew past its forecast to " + std::to_string(static_cast<long long>(points)) +
-                                          " points and more, which need about " + megabytes(to) +
-                                          " while meshing, more than the server's budget of " + megabytes(budget) +
-                                          " (--memory-budget-mb): ask for fewer points",
-                                      "/density"}};
+        throw over_budget("the mesh grew past its forecast to " + std::to_string(static_cast<long long>(points)) +
+                              " points and more, which need about " + megabytes(to),
+                          budget);
     std::lock_guard<std::mutex> lock(memory_m_);
     memory_reserved_ += to - from;
     metrics_.set_memory(memory_reserved_, memory_waiting_, budget);

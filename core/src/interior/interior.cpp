@@ -87,6 +87,7 @@ public:
         segments_.reserve(n / 2 * 9);
         jumps_to_stop_ = budget.jumps_to_stop;
         candidates_at_start_ = stats_.candidates;
+        jumps_at_start_ = stats_.jumps;
         // No forecast (0): nothing to report against.
         report_at_ = budget.expected_points ? 2 * std::max(budget.expected_points, nb) : SIZE_MAX;
         for (VertexId v = 0; v < nb; ++v) add_point(d.point(v), d.rho[v], kNoTriangle);
@@ -359,7 +360,8 @@ private:
         if (rc > kFieldJump * std::fmax(ra, rb) || kFieldJump * rc < std::fmin(ra, rb)) {
             ++stats_.jumps;
             // Jumps are counted from this stage's start: the closing rounds run it again.
-            if (jumps_to_stop_ && ++jumps_ >= jumps_to_stop_ + (stats_.candidates - candidates_at_start_) / 1024)
+            if (jumps_to_stop_ &&
+                stats_.jumps - jumps_at_start_ >= jumps_to_stop_ + (stats_.candidates - candidates_at_start_) / 1024)
                 throw FieldJumps{};
         }
         // The cheap local tests first: (4.22) rejects about half of all candidates.
@@ -414,7 +416,7 @@ private:
     detail::HugeVector<std::uint32_t> stack_;
     size_t closings_ = 0, closings_attempted_ = 0;
     size_t report_at_ = SIZE_MAX;  // the next count the observer hears of
-    std::uint64_t jumps_to_stop_ = 0, jumps_ = 0, candidates_at_start_ = 0;
+    std::uint64_t jumps_to_stop_ = 0, jumps_at_start_ = 0, candidates_at_start_ = 0;
     CellGrid<GridPoint> points_;
     std::array<double, SizeClasses::kMax + 1> largest_rho_{};  // of the points in each class
     CellGrid<GridSegment, true> segments_;

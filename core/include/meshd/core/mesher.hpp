@@ -31,12 +31,12 @@ enum class SplineSpacing {
     ControlPolygon,  ///< the paper's section 3.3: length along the control polygon
 };
 
-/// The advancing front of the interior points (section 4).
 /// A candidate point whose size is more than this many times larger or smaller than both ends
 /// of its segment is a jump of the size field: one element cannot follow it (MeshOptions::
 /// jump_gradation).
 inline constexpr double kFieldJump = 3.0;
 
+/// The advancing front of the interior points (section 4).
 struct InteriorOptions {
     /// Correct C so that |AC| = (rho(A) + rho(C)) / 2 and |BC| = (rho(B) + rho(C)) / 2 (4.4).
     bool newton = true;
