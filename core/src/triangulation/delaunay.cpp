@@ -132,25 +132,29 @@ public:
     }
 
 private:
-    // Visibility walk from `t` to the triangle holding p (inside or on its boundary).
-    TriangleId locate(const Vec2& p, TriangleId t) {
+    // Visibility walk from `t` to the triangle holding p (inside or on its boundary). In
+    // `on_edge`, the last edge of that triangle found to pass through p (-1: none); the walk's
+    // last step has asked every edge, so the insertion need not ask again.
+    TriangleId locate(const Vec2& p, TriangleId t, int& on_edge) {
         std::uint32_t r = 0;
         for (;;) {
             const Triangle& T = tris_[t];
             bool moved = false;
             r = r * 1103515245u + 12345u;  // vary the first edge tried: no cycling
-            const std::uint32_t off = (r >> 16) % 3;
-            for (std::uint32_t k = 0; k < 3; ++k) {
-                const std::uint32_t i = (off + k) % 3;
+            std::uint32_t i = (r >> 16) % 3;
+            on_edge = -1;
+            for (std::uint32_t k = 0; k < 3; ++k, i = next3(i)) {
                 const Vec2& a = pts_[T.v[next3(i)]];
                 const Vec2& b = pts_[T.v[prev3(i)]];
-                if (orient2d(a, b, p) == Orientation::Right) {
+                const Orientation o = orient2d(a, b, p);
+                if (o == Orientation::Right) {
                     t = T.n[i];
                     MESHD_INTERNAL_CHECK(t != kNoTriangle, "point outside the enclosing triangle");
                     moved = true;
                     ++stats_.walk_steps;
                     break;
                 }
+                if (o == Orientation::Collinear) on_edge = static_cast<int>(i);
             }
             if (!moved) return t;
         }
@@ -158,18 +162,18 @@ private:
 
     TriangleId insert(std::uint32_t v, TriangleId hint) {
         const Vec2& p = pts_[v];
-        const TriangleId t = locate(p, hint);
-        Triangle& T = tris_[t];
         int on_edge = -1;
-        for (std::uint32_t i = 0; i < 3; ++i) {
-            if (pts_[T.v[i]] == p) {
-                alias_[v] = T.v[i];
-                ++stats_.duplicates;
-                return t;
+        const TriangleId t = locate(p, hint, on_edge);
+        Triangle& T = tris_[t];
+        if (on_edge >= 0) {
+            // Only a point on an edge can be one of its corners.
+            for (std::uint32_t i = 0; i < 3; ++i) {
+                if (pts_[T.v[i]] == p) {
+                    alias_[v] = T.v[i];
+                    ++stats_.duplicates;
+                    return t;
+                }
             }
-        }
-        for (std::uint32_t i = 0; i < 3; ++i) {
-            if (orient2d(pts_[T.v[next3(i)]], pts_[T.v[prev3(i)]], p) == Orientation::Collinear) on_edge = static_cast<int>(i);
         }
         std::vector<std::pair<TriangleId, std::uint32_t>>& queue = queue_;
         queue.clear();
