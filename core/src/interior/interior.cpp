@@ -54,6 +54,12 @@ using GridSegment = std::uint32_t;
 /// and the point totals of 3,367 random domains); cells of 0.75 c_k and of 1.5 c_k did no
 /// better.
 constexpr double kCells = 1.0;
+/// Each front segment is entered once, in the segments' grid cell of its midpoint, and the
+/// crossing test widens its box by this many c_k (half a segment of class k at most, with
+/// room for rounding). Entered in every cell its box meets, a segment took 4.2 entries: 67
+/// bytes a point, whose fresh pages the kernel zeroes (at 10^7 points, a tenth of the run on
+/// one VM).
+constexpr double kMidpointReach = 0.5 + 0x1p-20;
 
 struct FrontSegment {
     std::uint32_t a, b;
@@ -74,8 +80,8 @@ public:
           walls_(wall_points_, wall_triangles_, true) {
         // Points: the boundary's, with their curve densities.
         const size_t nb = d.size();
-        // Counted on the benchmark case: two front segments per point, one entry per point in
-        // the points' grid and 4.2 in the segments' (a segment's box covers a few cells).
+        // Counted on the benchmark case: two front segments per point, each with one entry in
+        // the segments' grid, and one entry per point in the points' grid.
         // A forecast far too large only reserves address space: untouched pages cost nothing.
         size_t n = std::max(nb * 4, budget.expected_points + budget.expected_points / 8);
         if (max_points_) n = std::min(n, max_points_ + 1);
@@ -84,7 +90,7 @@ public:
         detail::reserve_huge(home_, n);
         detail::reserve_huge(front_, 2 * n);
         points_.reserve(n);
-        segments_.reserve(n / 2 * 9);
+        segments_.reserve(2 * n + n / 4);
         jumps_to_stop_ = budget.jumps_to_stop;
         candidates_at_start_ = stats_.candidates;
         jumps_at_start_ = stats_.jumps;
@@ -143,10 +149,8 @@ private:
         stack_.push_back(id);
         const Vec2 pa = pts_[a], pb = pts_[b];
         const int k = classes_.class_of(distance(pa, pb));
-        const std::int64_t x0 = classes_.ix(std::min(pa.x, pb.x), k), x1 = classes_.ix(std::max(pa.x, pb.x), k);
-        const std::int64_t y0 = classes_.iy(std::min(pa.y, pb.y), k), y1 = classes_.iy(std::max(pa.y, pb.y), k);
-        for (auto x = x0; x <= x1; ++x)
-            for (auto y = y0; y <= y1; ++y) segments_.push(k, x, y, id);
+        const Vec2 mid = 0.5 * (pa + pb);
+        segments_.push(k, classes_.ix(mid.x, k), classes_.iy(mid.y, k), id);
     }
 
     // The candidate of (4.3)/(4.7)/(4.12)/(4.19) for segment a -> b with radii ra, rb.
@@ -237,6 +241,11 @@ private:
                     box.add(edges[i].lo);
                     box.add(edges[i].hi);
                 }
+            // A segment is in the cell of its midpoint (push_segment), which lies within half
+            // its length, at most c_k / 2, of every point of its box in each axis.
+            const Vec2 reach{kMidpointReach * classes_.cell(k) / kCells, kMidpointReach * classes_.cell(k) / kCells};
+            box.lo = box.lo - reach;
+            box.hi = box.hi + reach;
             auto crossed = [&](const GridSegment& si) {
                 const FrontSegment& f = front_[si];
                 const Vec2 sa = pts_[f.a], sb = pts_[f.b];
@@ -280,11 +289,13 @@ private:
 
     // The segment of the front from u to v (any ever made), or kNoPoint.
     std::uint32_t find_segment(std::uint32_t u, std::uint32_t v) const {
+        // In the cell of its midpoint, computed as push_segment did.
         const Vec2 pu = pts_[u], pv = pts_[v];
         const int k = classes_.class_of(distance(pu, pv));
+        const Vec2 mid = 0.5 * (pu + pv);
+        const std::int64_t x = classes_.ix(mid.x, k), y = classes_.iy(mid.y, k);
         std::uint32_t found = kNoPoint;
-        segments_.any_in_all(k, classes_.ix(std::min(pu.x, pv.x), k), classes_.ix(std::max(pu.x, pv.x), k),
-                         classes_.iy(std::min(pu.y, pv.y), k), classes_.iy(std::max(pu.y, pv.y), k),
+        segments_.any_in_all(k, x, x, y, y,
                          [&](const GridSegment& si) {
                              if (front_[si].a != u || front_[si].b != v) return false;
                              found = si;
