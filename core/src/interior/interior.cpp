@@ -198,7 +198,7 @@ private:
         };
         const int k = classes_.class_of(rc);
         for (int j : {k, k - 1, k + 1, k - 2, k - 3}) {
-            if (j < 1 || j > SizeClasses::kMax) continue;
+            if (j < 1 || j > SizeClasses::kMax || !points_.has_class(j)) continue;
             // The reach is (rc + the largest rho of class j so far) / 2.
             const double reach = opt_.proximity * 0.5 * (rc + largest_rho_[static_cast<size_t>(j)]);
             if (points_.any_in(j, classes_.ix(c.x - reach, j), classes_.ix(c.x + reach, j), classes_.iy(c.y - reach, j),
@@ -234,6 +234,7 @@ private:
         const int k_lo = std::max(1, std::min(edges[0].k, edges[1].k) - 1);
         const int k_hi = std::min(SizeClasses::kMax, std::max(edges[0].k, edges[1].k) + 1);
         for (int k = k_lo; k <= k_hi; ++k) {
+            if (!segments_.has_class(k)) continue;
             const bool use[2] = {std::abs(k - edges[0].k) <= 1, std::abs(k - edges[1].k) <= 1};
             Box box;
             for (int i = 0; i < 2; ++i)

@@ -50,6 +50,11 @@ public:
         if (2 * (entries / 32) > slots_.size()) rehash(std::bit_ceil(2 * (entries / 32)));
     }
 
+    /// Whether any item of class k was ever entered (then a query of class k can end before it
+    /// computes its cells: most classes around a query's own are empty where the sizes vary
+    /// gently).
+    bool has_class(int k) const { return (classes_ & class_bit(k)) != 0; }
+
     std::uint32_t head(int k, std::int64_t x, std::int64_t y) const {
         const std::uint32_t b = find_block(k, x, y);
         return b == kNone ? kNone : blocks_[b].head[within(x, y)];
