@@ -12,29 +12,77 @@
 
 namespace meshd::core {
 
-GradationField::GradationField(std::vector<Vec2> sources, std::vector<double> sizes, double ratio)
+namespace {
+
+// A source with its size, copied out for the tree's build.
+struct Source {
+    double x, y, h;
+};
+constexpr std::uint32_t kLeafSize = 8;
+
+}  // namespace
+
+// The tree splits at the median of each node's wider side, as detail::KdLayout does, but over
+// copies of the sources: nth_element moves 24-byte records that lie together rather than
+// indices that point into the sources (with 2.8 million sources, on the NACA 0006 far field
+// under a gradation, those indirect comparisons were a quarter of the whole run). The
+// envelope does not depend on the layout: a node is passed over only when its bound, which
+// the rounding keeps at or below every cone inside it (the same operations on distances no
+// longer than any of theirs), is at or above the least found, so the least cone is the same
+// whatever the tree.
+GradationField::GradationField(std::span<const Vec2> sources, std::span<const double> sizes, double ratio)
     : slope_(ratio - 1.0) {
     MESHD_INTERNAL_CHECK(sources.size() == sizes.size() && !sources.empty(), "gradation needs sources");
-    const detail::KdLayout tree(sources);
-    x_.reserve(sources.size() + 3);
-    y_.reserve(sources.size() + 3);
-    h_.reserve(sources.size() + 3);
-    for (auto i : tree.order) {
-        x_.push_back(sources[i].x);
-        y_.push_back(sources[i].y);
-        h_.push_back(sizes[i]);
+    const auto n = static_cast<std::uint32_t>(sources.size());
+    detail::HugeVector<Source> src;
+    detail::reserve_huge(src, n);
+    for (std::uint32_t i = 0; i < n; ++i) src.push_back({sources[i].x, sources[i].y, sizes[i]});
+    // Depth first, a node's two children made together: node 0 is the root.
+    nodes_.reserve(2 * static_cast<size_t>(n) / kLeafSize + 2);
+    nodes_.push_back({});
+    struct Todo {
+        std::uint32_t node, begin, end;
+    };
+    std::vector<Todo> todo{{0, 0, n}};
+    while (!todo.empty()) {
+        const Todo t = todo.back();
+        todo.pop_back();
+        Node nd{};
+        nd.hmin = HUGE_VAL;
+        for (std::uint32_t i = t.begin; i < t.end; ++i) {
+            nd.box.add(Vec2{src[i].x, src[i].y});
+            nd.hmin = std::fmin(nd.hmin, src[i].h);
+        }
+        nd.mid = 0.5 * (nd.box.lo + nd.box.hi);
+        nd.begin = t.begin;
+        nd.end = t.end;
+        if (t.end - t.begin > kLeafSize) {
+            const bool by_x = nd.box.hi.x - nd.box.lo.x >= nd.box.hi.y - nd.box.lo.y;
+            const std::uint32_t m = t.begin + (t.end - t.begin) / 2;
+            std::nth_element(src.begin() + t.begin, src.begin() + m, src.begin() + t.end,
+                             [by_x](const Source& a, const Source& b) { return by_x ? a.x < b.x : a.y < b.y; });
+            nd.left = static_cast<std::uint32_t>(nodes_.size());
+            nd.right = nd.left + 1;
+            nodes_.push_back({});
+            nodes_.push_back({});
+            todo.push_back({nd.right, m, t.end});
+            todo.push_back({nd.left, t.begin, m});
+        }
+        nodes_[t.node] = nd;
+    }
+    detail::reserve_huge(x_, n + 3);
+    detail::reserve_huge(y_, n + 3);
+    detail::reserve_huge(h_, n + 3);
+    for (const Source& q : src) {
+        x_.push_back(q.x);
+        y_.push_back(q.y);
+        h_.push_back(q.h);
     }
     // Three more entries, never the least: a leaf's last step of four reads past its end.
     for (int k = 0; k < 3; ++k) {
         x_.push_back(0.0);
         y_.push_back(0.0);
         h_.push_back(HUGE_VAL);
-    }
-    nodes_.reserve(tree.nodes.size());
-    for (const detail::KdNode& k : tree.nodes) {
-        Node n{k.box, 0.5 * (k.box.lo + k.box.hi), HUGE_VAL, k.begin, k.end, k.left, k.right};
-        for (std::uint32_t i = k.begin; i < k.end; ++i) n.hmin = std::fmin(n.hmin, h_[i]);
-        nodes_.push_back(n);
     }
 }
 

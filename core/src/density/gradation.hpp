@@ -18,15 +18,18 @@
 
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
+#include "kernel/memory.hpp"
 #include "meshd/core/vec2.hpp"
 
 namespace meshd::core {
 
 class GradationField {
 public:
-    GradationField(std::vector<Vec2> sources, std::vector<double> sizes, double ratio);
+    /// The sources and their sizes are copied.
+    GradationField(std::span<const Vec2> sources, std::span<const double> sizes, double ratio);
     /// min_i (h_i + (g - 1) |x - s_i|).
     double operator()(Vec2 x) const { return capped(x, HUGE_VAL); }
     /// min(upper, min_i (h_i + (g - 1) |x - s_i|)): only the sources whose cones come below
@@ -44,7 +47,7 @@ private:
     };
     double least_cone(std::uint32_t b, std::uint32_t e, Vec2 x) const;
 
-    std::vector<double> x_, y_, h_;  // the sources in tree order (three more entries: least_cone)
+    detail::HugeVector<double> x_, y_, h_;  // the sources in tree order (three more entries: least_cone)
     std::vector<Node> nodes_;
     double slope_;
     // The last search: where, and a lower bound of the envelope there.

@@ -183,25 +183,25 @@ double SizeField::interior_from(Vec2 p, double h) const {
 namespace {
 
 // A cap of cones over the points, or none without points.
-std::unique_ptr<GradationField> cap_of(std::vector<Vec2> points, std::vector<double> sizes, double ratio) {
-    return points.empty() ? nullptr : std::make_unique<GradationField>(std::move(points), std::move(sizes), ratio);
+std::unique_ptr<GradationField> cap_of(const std::vector<Vec2>& points, const std::vector<double>& sizes, double ratio) {
+    return points.empty() ? nullptr : std::make_unique<GradationField>(points, sizes, ratio);
 }
 
 }  // namespace
 
-void SizeField::set_interior_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio) {
-    interior_cap_ = cap_of(std::move(points), std::move(sizes), ratio);
+void SizeField::set_interior_cap(const std::vector<Vec2>& points, const std::vector<double>& sizes, double ratio) {
+    interior_cap_ = cap_of(points, sizes, ratio);
 }
 
 void SizeField::set_cap(const SizeCaps& caps, double ratio) { cap_ = cap_of(caps.points, caps.sizes, ratio); }
 
-void SizeField::set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes) {
+void SizeField::set_gradation_sources(std::span<const Vec2> points, std::span<const double> sizes) {
     MESHD_INTERNAL_CHECK(gradation_.has_value(), "gradation sources without a gradation");
-    graded_ = std::make_unique<GradationField>(std::move(points), std::move(sizes), *gradation_);
+    graded_ = std::make_unique<GradationField>(points, sizes, *gradation_);
 }
 
-void SizeField::set_curve_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio) {
-    curve_cap_ = cap_of(std::move(points), std::move(sizes), ratio);
+void SizeField::set_curve_cap(const std::vector<Vec2>& points, const std::vector<double>& sizes, double ratio) {
+    curve_cap_ = cap_of(points, sizes, ratio);
 }
 
 void SizeField::set_boundary_segments(std::vector<Vec2> starts, std::vector<double> lengths, double tolerance) {

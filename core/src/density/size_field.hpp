@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "density/expression.hpp"
@@ -55,14 +56,14 @@ public:
 
     /// Limits the field (on curves and inside) to the gradation envelope over these samples
     /// (gradation.hpp).
-    void set_gradation_sources(std::vector<Vec2> points, std::vector<double> sizes);
+    void set_gradation_sources(std::span<const Vec2> points, std::span<const double> sizes);
     bool graded() const { return graded_ != nullptr; }
 
     /// Caps rho on the curves (not inside) at min_i (sizes_i + (ratio - 1) |p - points_i|)
     /// (pipeline/agreement.hpp: curves made to agree with the interior field beside them).
-    void set_curve_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio);
+    void set_curve_cap(const std::vector<Vec2>& points, const std::vector<double>& sizes, double ratio);
     /// Caps rho inside (not on the curves) the same way.
-    void set_interior_cap(std::vector<Vec2> points, std::vector<double> sizes, double ratio);
+    void set_interior_cap(const std::vector<Vec2>& points, const std::vector<double>& sizes, double ratio);
     /// The interior cap as it stands (null: none), to set again with restore_interior_cap
     /// when a stage that replaced it is done again (the layers grown again).
     std::shared_ptr<const GradationField> interior_cap() const { return interior_cap_; }
