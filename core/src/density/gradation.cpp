@@ -14,22 +14,19 @@ namespace meshd::core {
 
 namespace {
 
-// A source with its size, copied out for the tree's build.
+// A source with its size, copied for the tree's build.
 struct Source {
     double x, y, h;
 };
-constexpr std::uint32_t kLeafSize = 8;
 
 }  // namespace
 
-// The tree splits at the median of each node's wider side, as detail::KdLayout does, but over
-// copies of the sources: nth_element moves 24-byte records that lie together rather than
-// indices that point into the sources (with 2.8 million sources, on the NACA 0006 far field
-// under a gradation, those indirect comparisons were a quarter of the whole run). The
-// envelope does not depend on the layout: a node is passed over only when its bound, which
-// the rounding keeps at or below every cone inside it (the same operations on distances no
-// longer than any of theirs), is at or above the least found, so the least cone is the same
-// whatever the tree.
+// The tree is built over copies of the sources (detail::build_kd), without ties broken: the
+// envelope does not depend on the layout. A node is passed over only when its bound, which the
+// rounding keeps at or below every cone inside it (the same operations on distances no longer
+// than any of theirs), is at or above the least found, so the least cone is the same whatever
+// the tree. (Built on indices into the sources, as the eq. 6.1 treecode's is, the tree took a
+// quarter of the NACA 0006 far field's run under a gradation: 2.8 million sources.)
 GradationField::GradationField(std::span<const Vec2> sources, std::span<const double> sizes, double ratio)
     : slope_(ratio - 1.0) {
     MESHD_INTERNAL_CHECK(sources.size() == sizes.size() && !sources.empty(), "gradation needs sources");
@@ -37,39 +34,10 @@ GradationField::GradationField(std::span<const Vec2> sources, std::span<const do
     detail::HugeVector<Source> src;
     detail::reserve_huge(src, n);
     for (std::uint32_t i = 0; i < n; ++i) src.push_back({sources[i].x, sources[i].y, sizes[i]});
-    // Depth first, a node's two children made together: node 0 is the root.
-    nodes_.reserve(2 * static_cast<size_t>(n) / kLeafSize + 2);
-    nodes_.push_back({});
-    struct Todo {
-        std::uint32_t node, begin, end;
-    };
-    std::vector<Todo> todo{{0, 0, n}};
-    while (!todo.empty()) {
-        const Todo t = todo.back();
-        todo.pop_back();
-        Node nd{};
-        nd.hmin = HUGE_VAL;
-        for (std::uint32_t i = t.begin; i < t.end; ++i) {
-            nd.box.add(Vec2{src[i].x, src[i].y});
-            nd.hmin = std::fmin(nd.hmin, src[i].h);
-        }
-        nd.mid = 0.5 * (nd.box.lo + nd.box.hi);
-        nd.begin = t.begin;
-        nd.end = t.end;
-        if (t.end - t.begin > kLeafSize) {
-            const bool by_x = nd.box.hi.x - nd.box.lo.x >= nd.box.hi.y - nd.box.lo.y;
-            const std::uint32_t m = t.begin + (t.end - t.begin) / 2;
-            std::nth_element(src.begin() + t.begin, src.begin() + m, src.begin() + t.end,
-                             [by_x](const Source& a, const Source& b) { return by_x ? a.x < b.x : a.y < b.y; });
-            nd.left = static_cast<std::uint32_t>(nodes_.size());
-            nd.right = nd.left + 1;
-            nodes_.push_back({});
-            nodes_.push_back({});
-            todo.push_back({nd.right, m, t.end});
-            todo.push_back({nd.left, t.begin, m});
-        }
-        nodes_[t.node] = nd;
-    }
+    std::vector<detail::KdNode> tree;
+    tree.reserve(2 * static_cast<size_t>(n) / detail::KdLayout::kLeafSize + 2);
+    detail::build_kd(tree, src.data(), 0, n, detail::KdLayout::kLeafSize, [](const Source& q) { return Vec2{q.x, q.y}; },
+                     [](const Source&, const Source&) { return false; });
     detail::reserve_huge(x_, n + 3);
     detail::reserve_huge(y_, n + 3);
     detail::reserve_huge(h_, n + 3);
@@ -83,6 +51,18 @@ GradationField::GradationField(std::span<const Vec2> sources, std::span<const do
         x_.push_back(0.0);
         y_.push_back(0.0);
         h_.push_back(HUGE_VAL);
+    }
+    // The nodes' least sizes from the leaves up: children come after their parent.
+    nodes_.resize(tree.size());
+    for (size_t k = tree.size(); k-- > 0;) {
+        const detail::KdNode& t = tree[k];
+        Node& nd = nodes_[k];
+        nd = {t.box, 0.5 * (t.box.lo + t.box.hi), HUGE_VAL, t.begin, t.end, t.left, t.right};
+        if (t.left == 0) {
+            for (std::uint32_t i = t.begin; i < t.end; ++i) nd.hmin = std::fmin(nd.hmin, h_[i]);
+        } else {
+            nd.hmin = std::fmin(nodes_[t.left].hmin, nodes_[t.right].hmin);
+        }
     }
 }
 

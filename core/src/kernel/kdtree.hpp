@@ -1,9 +1,10 @@
 #pragma once
 // A static 2-d tree of median splits, shared by the eq. 6.1 treecode
-// (density/inverse_distance.cpp), the gradation field (density/gradation.cpp) and the
-// advancing-front triangulator's candidate search (triangulation/advancing_front.cpp). The
-// layout (the order of the points, the nodes' ranges and boxes) and the depth-first
-// traversal live here; each user keeps its own per-node data and decides where to descend.
+// (density/inverse_distance.cpp), the gradation field (density/gradation.cpp, over copies of
+// its sources: build_kd) and the advancing-front triangulator's candidate search
+// (triangulation/advancing_front.cpp). The layout (the order of the points, the nodes' ranges
+// and boxes) and the depth-first traversal live here; each user keeps its own per-node data
+// and decides where to descend.
 
 #include <algorithm>
 #include <cstdint>
@@ -20,44 +21,61 @@ struct KdNode {
     std::uint32_t left, right;  // children; 0 for a leaf (node 0 is the root)
 };
 
+/// The median splits over records that carry their own positions, built in place: recs[b, e)
+/// becomes the range of a node, split at the median of its box's wider side while it holds
+/// more than `leaf`. pos(r) is a record's position; records equal on the split coordinate go
+/// by before(r, s) (a strict order, or "never" when their order does not matter). Nodes are
+/// numbered depth first, each before its children and the left subtree before the right; the
+/// root is node 0. Records moved in place, rather than indices into the positions, keep the
+/// selection's comparisons in cache (with millions of points, the indirect ones were most of
+/// the build).
+template <class Rec, class Pos, class Before>
+std::uint32_t build_kd(std::vector<KdNode>& nodes, Rec* recs, std::uint32_t b, std::uint32_t e, std::uint32_t leaf,
+                       const Pos& pos, const Before& before) {
+    const auto id = static_cast<std::uint32_t>(nodes.size());
+    nodes.push_back({});
+    KdNode n{};
+    n.begin = b;
+    n.end = e;
+    for (std::uint32_t i = b; i < e; ++i) n.box.add(pos(recs[i]));
+    if (e - b > leaf) {
+        const bool by_x = n.box.hi.x - n.box.lo.x >= n.box.hi.y - n.box.lo.y;
+        const std::uint32_t m = b + (e - b) / 2;
+        std::nth_element(recs + b, recs + m, recs + e, [&](const Rec& r, const Rec& s) {
+            const Vec2 pr = pos(r), ps = pos(s);
+            const double cr = by_x ? pr.x : pr.y, cs = by_x ? ps.x : ps.y;
+            return cr < cs || (cr == cs && before(r, s));
+        });
+        n.left = build_kd(nodes, recs, b, m, leaf, pos, before);
+        n.right = build_kd(nodes, recs, m, e, leaf, pos, before);
+    }
+    nodes[id] = n;
+    return id;
+}
+
 class KdLayout {
 public:
     static constexpr std::uint32_t kLeafSize = 8;
 
     /// order[i]: index of the i-th point in tree order. Splits at the median of the wider
     /// side of each node's box, ties broken by index, so the layout is deterministic.
-    explicit KdLayout(const std::vector<Vec2>& pts) : order(pts.size()), pts_(pts) {
-        std::iota(order.begin(), order.end(), 0u);
+    explicit KdLayout(const std::vector<Vec2>& pts) : order(pts.size()) {
+        struct Indexed {
+            Vec2 p;
+            std::uint32_t index;
+        };
+        std::vector<Indexed> recs(pts.size());
+        for (size_t i = 0; i < pts.size(); ++i) recs[i] = {pts[i], static_cast<std::uint32_t>(i)};
         nodes.reserve(2 * pts.size() / kLeafSize + 2);
-        if (!pts.empty()) build(0, static_cast<std::uint32_t>(pts.size()));
+        if (!pts.empty())
+            build_kd(nodes, recs.data(), 0, static_cast<std::uint32_t>(pts.size()), kLeafSize,
+                     [](const Indexed& r) { return r.p; },
+                     [](const Indexed& r, const Indexed& s) { return r.index < s.index; });
+        for (size_t i = 0; i < recs.size(); ++i) order[i] = recs[i].index;
     }
 
     std::vector<std::uint32_t> order;
     std::vector<KdNode> nodes;
-
-private:
-    std::uint32_t build(std::uint32_t b, std::uint32_t e) {
-        const auto id = static_cast<std::uint32_t>(nodes.size());
-        nodes.push_back({});
-        KdNode n{};
-        n.begin = b;
-        n.end = e;
-        for (std::uint32_t i = b; i < e; ++i) n.box.add(pts_[order[i]]);
-        if (e - b > kLeafSize) {
-            const bool by_x = n.box.hi.x - n.box.lo.x >= n.box.hi.y - n.box.lo.y;
-            const std::uint32_t m = b + (e - b) / 2;
-            std::nth_element(order.begin() + b, order.begin() + m, order.begin() + e, [&](std::uint32_t i, std::uint32_t j) {
-                const double pi = by_x ? pts_[i].x : pts_[i].y, pj = by_x ? pts_[j].x : pts_[j].y;
-                return pi < pj || (pi == pj && i < j);
-            });
-            n.left = build(b, m);
-            n.right = build(m, e);
-        }
-        nodes[id] = n;
-        return id;
-    }
-
-    const std::vector<Vec2>& pts_;
 };
 
 /// What a depth-first traversal does after visiting a node: stop altogether, go no deeper
