@@ -6,9 +6,9 @@
 ///
 /// of cones over sample points s_i of the domain with their sizes h_i (the boundary points
 /// and samples of the interior at about the local size): the largest field below h that grows
-/// no faster than g - 1 between samples. Queries use a k-d tree whose nodes keep their
-/// smallest h_i, pruned by h_min + (g - 1) * distance to the node's box: O(log n) on graded
-/// fields.
+/// no faster than g - 1 between samples. Queries use a tree of boxes over the sources in
+/// Hilbert order whose nodes keep their smallest h_i, pruned by h_min + (g - 1) * distance to
+/// the node's box: O(log n) on graded fields.
 ///
 /// A query also leaves a lower bound of the envelope where it was made: the cones are
 /// (g - 1)-Lipschitz, so a later query nearby whose `upper` lies below that bound less the
@@ -37,6 +37,8 @@ public:
     double capped(Vec2 x, double upper) const;
 
 private:
+    static constexpr std::uint32_t kLeafSize = 8;
+    std::uint32_t build(std::uint32_t lb, std::uint32_t le, std::uint32_t n);
     double search(Vec2 x, double upper) const;
 
     struct Node {

@@ -81,7 +81,7 @@ HugeVector<std::uint32_t> sort_keys(HugeVector<std::uint64_t>& keys, int bits) {
 
 // (Hilbert index << 32 | i) for every point, plus `round(i) << 56`.
 template <class Round>
-HugeVector<std::uint64_t> hilbert_keys(const std::vector<Vec2>& pts, Round round) {
+HugeVector<std::uint64_t> hilbert_keys(std::span<const Vec2> pts, Round round) {
     static const HilbertTable hilbert;
     Box box;
     for (const Vec2& p : pts) box.add(p);
@@ -101,7 +101,7 @@ HugeVector<std::uint64_t> hilbert_keys(const std::vector<Vec2>& pts, Round round
 
 }  // namespace
 
-HugeVector<std::uint32_t> hilbert_order(const std::vector<Vec2>& pts) {
+HugeVector<std::uint32_t> hilbert_order(std::span<const Vec2> pts) {
     HugeVector<std::uint64_t> keys = hilbert_keys(pts, [](size_t) { return 0u; });
     return sort_keys(keys, 24);
 }
