@@ -579,37 +579,43 @@ TEST(SizeField, SizesAreCappedAtTheDomainsExtent) {
 // formula summed cone by cone. The field answers a query near the last one from that search's
 // bound without searching again; the queries here come as the advancing front's do, in runs of
 // small steps (and now and then a jump), with bounds below, near and above the envelope, so
-// that both the answers without a search and the searches are checked, to the bit.
+// that both the answers without a search and the searches are checked, to the bit. Both
+// trees (sources along curves: a k-d tree searched wide; over the domain: a tree over the
+// Hilbert order searched up to the bound).
 TEST(Gradation, TheEnvelopeAnswersEveryQueryAsTheFormulaDoes) {
     std::mt19937_64 gen(20261204);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    // 300 sources make leaves of 4 and 5, 1,000 of 7 and 8 (the leaves are summed four a step).
-    for (const auto& [ratio, sources] : {std::pair{1.25, 300}, std::pair{1.5, 1000}, std::pair{3.0, 300}}) {
-        SCOPED_TRACE(ratio);
-        std::vector<Vec2> at;
-        std::vector<double> size;
-        for (int i = 0; i < sources; ++i) {
-            at.push_back({unit(gen), unit(gen)});
-            size.push_back(0.001 + 0.1 * unit(gen) * unit(gen));
+    // In the k-d tree 300 sources make leaves of 4 and 5, 1,000 of 7 and 8; in the other all
+    // leaves are of 8 but the last of 300 sources, of 4 (the leaves are summed four a step).
+    for (const auto spread : {GradationField::Spread::Curves, GradationField::Spread::Domain}) {
+        for (const auto& [ratio, sources] : {std::pair{1.25, 300}, std::pair{1.5, 1000}, std::pair{3.0, 300}}) {
+            SCOPED_TRACE(ratio);
+            SCOPED_TRACE(spread == GradationField::Spread::Curves ? "curves" : "domain");
+            std::vector<Vec2> at;
+            std::vector<double> size;
+            for (int i = 0; i < sources; ++i) {
+                at.push_back({unit(gen), unit(gen)});
+                size.push_back(0.001 + 0.1 * unit(gen) * unit(gen));
+            }
+            const GradationField cap(at, size, ratio, spread);
+            auto formula = [&](Vec2 x, double upper) {
+                double h = upper;
+                for (size_t i = 0; i < at.size(); ++i) h = std::fmin(h, size[i] + (ratio - 1.0) * distance(x, at[i]));
+                return h;
+            };
+            Vec2 x{0.5, 0.5};
+            size_t below = 0;
+            for (int q = 0; q < 20000; ++q) {
+                if (unit(gen) < 0.01) x = {1.4 * unit(gen) - 0.2, 1.4 * unit(gen) - 0.2};
+                else x = x + Vec2{0.02 * (unit(gen) - 0.5), 0.02 * (unit(gen) - 0.5)};
+                const double envelope = formula(x, HUGE_VAL);
+                const double upper = envelope * (0.2 + 1.2 * unit(gen));
+                below += upper < envelope;
+                ASSERT_EQ(cap.capped(x, upper), formula(x, upper)) << "query " << q << " at " << x.x << ", " << x.y;
+            }
+            EXPECT_GT(below, 10000u);
+            EXPECT_EQ(cap(Vec2{0.3, 0.7}), formula({0.3, 0.7}, HUGE_VAL));
         }
-        const GradationField cap(at, size, ratio);
-        auto formula = [&](Vec2 x, double upper) {
-            double h = upper;
-            for (size_t i = 0; i < at.size(); ++i) h = std::fmin(h, size[i] + (ratio - 1.0) * distance(x, at[i]));
-            return h;
-        };
-        Vec2 x{0.5, 0.5};
-        size_t below = 0;
-        for (int q = 0; q < 20000; ++q) {
-            if (unit(gen) < 0.01) x = {1.4 * unit(gen) - 0.2, 1.4 * unit(gen) - 0.2};
-            else x = x + Vec2{0.02 * (unit(gen) - 0.5), 0.02 * (unit(gen) - 0.5)};
-            const double envelope = formula(x, HUGE_VAL);
-            const double upper = envelope * (0.2 + 1.2 * unit(gen));
-            below += upper < envelope;
-            ASSERT_EQ(cap.capped(x, upper), formula(x, upper)) << "query " << q << " at " << x.x << ", " << x.y;
-        }
-        EXPECT_GT(below, 10000u);
-        EXPECT_EQ(cap(Vec2{0.3, 0.7}), formula({0.3, 0.7}, HUGE_VAL));
     }
 }
 
@@ -618,21 +624,23 @@ TEST(Gradation, TheEnvelopeAnswersEveryQueryAsTheFormulaDoes) {
 // round the origin, queried there and beside them (a zero size in those entries would answer
 // 0 at the origin, where the sources' cones give 0.05 + (ratio - 1) 0.1 and more).
 TEST(Gradation, ALeafsLastStepReadsNothingPastItsEnd) {
-    for (int count = 1; count <= 8; ++count) {
-        SCOPED_TRACE(count);
-        std::vector<Vec2> at;
-        std::vector<double> size;
-        for (int i = 0; i < count; ++i) {
-            const double a = 2.0 * std::numbers::pi * i / count;
-            at.push_back({0.1 * std::cos(a), 0.1 * std::sin(a)});
-            size.push_back(0.05 + 0.01 * i);
-        }
-        const GradationField cap(at, size, 1.25);
-        for (const Vec2 x : {Vec2{0.0, 0.0}, Vec2{0.01, -0.02}, Vec2{-0.05, 0.03}, Vec2{0.2, 0.2}}) {
-            double h = HUGE_VAL;
-            for (size_t i = 0; i < at.size(); ++i) h = std::fmin(h, size[i] + 0.25 * distance(x, at[i]));
-            EXPECT_EQ(cap(x), h) << x.x << ", " << x.y;
-            EXPECT_EQ(cap.capped(x, 2.0 * h), h) << x.x << ", " << x.y;
+    for (const auto spread : {GradationField::Spread::Curves, GradationField::Spread::Domain}) {
+        for (int count = 1; count <= 8; ++count) {
+            SCOPED_TRACE(count);
+            std::vector<Vec2> at;
+            std::vector<double> size;
+            for (int i = 0; i < count; ++i) {
+                const double a = 2.0 * std::numbers::pi * i / count;
+                at.push_back({0.1 * std::cos(a), 0.1 * std::sin(a)});
+                size.push_back(0.05 + 0.01 * i);
+            }
+            const GradationField cap(at, size, 1.25, spread);
+            for (const Vec2 x : {Vec2{0.0, 0.0}, Vec2{0.01, -0.02}, Vec2{-0.05, 0.03}, Vec2{0.2, 0.2}}) {
+                double h = HUGE_VAL;
+                for (size_t i = 0; i < at.size(); ++i) h = std::fmin(h, size[i] + 0.25 * distance(x, at[i]));
+                EXPECT_EQ(cap(x), h) << x.x << ", " << x.y;
+                EXPECT_EQ(cap.capped(x, 2.0 * h), h) << x.x << ", " << x.y;
+            }
         }
     }
 }

@@ -28,8 +28,14 @@ namespace meshd::core {
 
 class GradationField {
 public:
+    /// How the sources lie, which decides the tree and how far a query searches (the answers
+    /// are the same either way; gradation.cpp has the figures).
+    enum class Spread {
+        Curves,  ///< along curves (the caps of the size field): a k-d tree, wide searches
+        Domain,  ///< over the domain at about the local size (a gradation's samples)
+    };
     /// The sources and their sizes are copied.
-    GradationField(std::span<const Vec2> sources, std::span<const double> sizes, double ratio);
+    GradationField(std::span<const Vec2> sources, std::span<const double> sizes, double ratio, Spread spread);
     /// min_i (h_i + (g - 1) |x - s_i|).
     double operator()(Vec2 x) const { return capped(x, HUGE_VAL); }
     /// min(upper, min_i (h_i + (g - 1) |x - s_i|)): only the sources whose cones come below
@@ -52,6 +58,7 @@ private:
     detail::HugeVector<double> x_, y_, h_;  // the sources in tree order (three more entries: least_cone)
     std::vector<Node> nodes_;
     double slope_;
+    double search_factor_;  // a query searches up to this times its bound
     // The last search: where, and a lower bound of the envelope there.
     mutable Vec2 last_at_{0.0, 0.0};
     mutable double last_floor_ = -HUGE_VAL;

@@ -184,7 +184,8 @@ namespace {
 
 // A cap of cones over the points, or none without points.
 std::unique_ptr<GradationField> cap_of(const std::vector<Vec2>& points, const std::vector<double>& sizes, double ratio) {
-    return points.empty() ? nullptr : std::make_unique<GradationField>(points, sizes, ratio);
+    return points.empty() ? nullptr
+                          : std::make_unique<GradationField>(points, sizes, ratio, GradationField::Spread::Curves);
 }
 
 }  // namespace
@@ -197,7 +198,7 @@ void SizeField::set_cap(const SizeCaps& caps, double ratio) { cap_ = cap_of(caps
 
 void SizeField::set_gradation_sources(std::span<const Vec2> points, std::span<const double> sizes) {
     MESHD_INTERNAL_CHECK(gradation_.has_value(), "gradation sources without a gradation");
-    graded_ = std::make_unique<GradationField>(points, sizes, *gradation_);
+    graded_ = std::make_unique<GradationField>(points, sizes, *gradation_, GradationField::Spread::Domain);
 }
 
 void SizeField::set_curve_cap(const std::vector<Vec2>& points, const std::vector<double>& sizes, double ratio) {

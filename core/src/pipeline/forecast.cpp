@@ -364,7 +364,7 @@ double agree_intervals(const Domain& domain, SizeField& rho, std::vector<Interva
             sizes.push_back(f);
         }
         if (caps.size() == before) break;
-        const GradationField cap(caps, sizes, kAgreementCapRatio);
+        const GradationField cap(caps, sizes, kAgreementCapRatio, GradationField::Spread::Curves);
         boundary = 0.0;
         for (Interval& x : intervals) {
             const double h = std::fmax(std::fmin(x.size, cap(x.at)), rho.min_size());
