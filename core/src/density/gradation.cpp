@@ -116,7 +116,8 @@ double GradationField::capped(Vec2 x, double upper) const {
     // eight times, no fewer). Over the domain, up to `upper`: there the envelope lies just
     // above the field nearly everywhere, a wider search found no bound to reuse and cost a
     // search for the nearest sources at every query (the NACA 0006 far field under a gradation:
-    // 8.4 G instructions against 4.7 G; Fig. 9's caps searched so: 335 M against 427 M).
+    // 8.4 G instructions against 4.7 G; Fig. 9's caps searched so, in the same tree: 427 M
+    // against 335 M).
     const double floor = search(x, search_factor_ * upper);
     last_at_ = x;
     last_floor_ = floor;
