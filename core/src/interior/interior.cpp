@@ -55,11 +55,13 @@ using GridSegment = std::uint32_t;
 /// better.
 constexpr double kCells = 1.0;
 /// Each front segment is entered once, in the segments' grid cell of its midpoint, and the
-/// crossing test widens its box by this many c_k (half a segment of class k at most, with
-/// room for rounding). Entered in every cell its box meets, a segment took 4.2 entries: 67
-/// bytes a point, whose fresh pages the kernel zeroes (at 10^7 points, a tenth of the run on
-/// one VM).
-constexpr double kMidpointReach = 0.5 + 0x1p-20;
+/// crossing test widens its box by the largest half extent of the segments of each class so
+/// far, times this (room for the rounding of the midpoints). Entered in every cell its box
+/// met, a segment took 4.2 entries: 67 bytes a point, whose fresh pages the kernel zeroes (at
+/// 10^7 points, a tenth of the run on one VM). The extents are kept rather than taken from the
+/// class (at most c_k / 2): the classes are clamped, and a segment longer than half the
+/// domain's extent is in class 1 all the same.
+constexpr double kMidpointMargin = 1.0 + 0x1p-20;
 
 struct FrontSegment {
     std::uint32_t a, b;
@@ -151,6 +153,9 @@ private:
         const int k = classes_.class_of(distance(pa, pb));
         const Vec2 mid = 0.5 * (pa + pb);
         segments_.push(k, classes_.ix(mid.x, k), classes_.iy(mid.y, k), id);
+        Vec2& reach = segment_reach_[static_cast<size_t>(k)];
+        reach = {std::fmax(reach.x, kMidpointMargin * 0.5 * std::fabs(pb.x - pa.x)),
+                 std::fmax(reach.y, kMidpointMargin * 0.5 * std::fabs(pb.y - pa.y))};
     }
 
     // The candidate of (4.3)/(4.7)/(4.12)/(4.19) for segment a -> b with radii ra, rb.
@@ -242,9 +247,9 @@ private:
                     box.add(edges[i].lo);
                     box.add(edges[i].hi);
                 }
-            // A segment is in the cell of its midpoint (push_segment), which lies within half
-            // its length, at most c_k / 2, of every point of its box in each axis.
-            const Vec2 reach{kMidpointReach * classes_.cell(k) / kCells, kMidpointReach * classes_.cell(k) / kCells};
+            // A segment is in the cell of its midpoint (push_segment), which lies within its
+            // half extent of every point of its box in each axis.
+            const Vec2 reach = segment_reach_[static_cast<size_t>(k)];
             box.lo = box.lo - reach;
             box.hi = box.hi + reach;
             auto crossed = [&](const GridSegment& si) {
@@ -431,6 +436,7 @@ private:
     std::uint64_t jumps_to_stop_ = 0, jumps_at_start_ = 0, candidates_at_start_ = 0;
     CellGrid<GridPoint> points_;
     std::array<double, SizeClasses::kMax + 1> largest_rho_{};  // of the points in each class
+    std::array<Vec2, SizeClasses::kMax + 1> segment_reach_{};  // the segments' largest half extents, by class
     CellGrid<GridSegment, true> segments_;
 };
 
