@@ -56,7 +56,7 @@ using GridSegment = std::uint32_t;
 constexpr double kCells = 1.0;
 /// Each front segment is entered once, in the segments' grid cell of its midpoint, and the
 /// crossing test widens its box by the largest half extent of the segments of each class so
-/// far, times this (room for the rounding of the midpoints). Entered in every cell its box
+/// far, times this (room for the rounding of the differences). Entered in every cell its box
 /// met, a segment took 4.2 entries: 67 bytes a point, whose fresh pages the kernel zeroes (at
 /// 10^7 points, a tenth of the run on one VM). The extents are kept rather than taken from the
 /// class (at most c_k / 2): the classes are clamped, and a segment longer than half the
@@ -154,8 +154,12 @@ private:
         const Vec2 mid = 0.5 * (pa + pb);
         segments_.push(k, classes_.ix(mid.x, k), classes_.iy(mid.y, k), id);
         Vec2& reach = segment_reach_[static_cast<size_t>(k)];
-        reach = {std::fmax(reach.x, kMidpointMargin * 0.5 * std::fabs(pb.x - pa.x)),
-                 std::fmax(reach.y, kMidpointMargin * 0.5 * std::fabs(pb.y - pa.y))};
+        // Plus a few units in the last place of the coordinates: the midpoint's rounding, which
+        // a short segment far from the origin can make larger than a share of its extent.
+        auto half = [](double u, double v) {
+            return kMidpointMargin * 0.5 * std::fabs(v - u) + 0x1p-50 * (std::fabs(u) + std::fabs(v));
+        };
+        reach = {std::fmax(reach.x, half(pa.x, pb.x)), std::fmax(reach.y, half(pa.y, pb.y))};
     }
 
     // The candidate of (4.3)/(4.7)/(4.12)/(4.19) for segment a -> b with radii ra, rb.
