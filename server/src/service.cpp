@@ -539,8 +539,9 @@ void Service::install() {
         if (!job) return refuse_busy(res);
         // Wait for the job, and cancel it if the client goes away meanwhile. The connection's
         // socket is looked for only once the job has outlasted the first wait: the search
-        // asks every descriptor of the process its addresses, about 1.6 us each, which at 64
-        // connections was 3% of a small request's time, and most requests are answered first.
+        // asks every descriptor of the process its addresses (at the load run's 64
+        // connections, 1.2% of the server's profile in the kernel alone), and most requests
+        // are answered first (load run: 349 -> 370 requests/s on average).
         int socket = -1;
         bool socket_sought = false, client_gone = false;
         std::unique_lock<std::mutex> lock(job->m);

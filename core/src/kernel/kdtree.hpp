@@ -1,7 +1,8 @@
 #pragma once
 // A static 2-d tree of median splits, shared by the eq. 6.1 treecode
-// (density/inverse_distance.cpp), the gradation field (density/gradation.cpp, over copies of
-// its sources: build_kd) and the advancing-front triangulator's candidate search
+// (density/inverse_distance.cpp), the size field's caps (density/gradation.cpp, build_kd over
+// copies of their sources; a gradation's samples take a tree over their Hilbert order there)
+// and the advancing-front triangulator's candidate search
 // (triangulation/advancing_front.cpp). The layout (the order of the points, the nodes' ranges
 // and boxes) and the depth-first traversal live here; each user keeps its own per-node data
 // and decides where to descend.
