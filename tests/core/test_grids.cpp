@@ -166,6 +166,61 @@ TEST(CellGrid, RetiredItemsLeaveTheBoxQueriesAndStayForTheFullLookup) {
     }
 }
 
+// The order of a query's visits, which the interior's proximity test depends on (the first
+// offending point decides where the front closes): block by block (4 x 4 cells, by column
+// block, then row block), within a block cell by cell along x, then y, and within a cell the
+// latest item first. Also after retirement has emptied cells and new items went into them.
+TEST(CellGrid, AQueryVisitsBlockByBlockThenAlongXThenYLatestFirst) {
+    std::mt19937_64 rng(11);
+    std::uniform_int_distribution<std::int64_t> coord(-10, 10);
+    CellGrid<std::uint32_t, true> grid;
+    std::vector<Placed> all;
+    auto push = [&](std::uint32_t id) {
+        const Placed p{3, coord(rng), coord(rng), id};
+        grid.push(p.k, p.x, p.y, p.id);
+        all.push_back(p);
+    };
+    std::vector<bool> retired;
+    // The expected sequence, from the rule above.
+    auto expected = [&](std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1) {
+        std::vector<Placed> in;
+        for (const Placed& p : all)
+            if (p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1 && !retired[p.id]) in.push_back(p);
+        auto key = [](const Placed& p) { return std::tuple(p.x >> 2, p.y >> 2, p.x, p.y, -static_cast<std::int64_t>(p.id)); };
+        std::sort(in.begin(), in.end(), [&](const Placed& a, const Placed& b) { return key(a) < key(b); });
+        std::vector<std::uint32_t> ids;
+        for (const Placed& p : in) ids.push_back(p.id);
+        return ids;
+    };
+    std::uniform_int_distribution<std::int64_t> width(0, 9);
+    auto check = [&](int queries) {
+        for (int q = 0; q < queries; ++q) {
+            const std::int64_t x0 = coord(rng), y0 = coord(rng), x1 = x0 + width(rng), y1 = y0 + width(rng);
+            std::vector<std::uint32_t> seen;
+            grid.any_in(3, x0, x1, y0, y1, [&](std::uint32_t id) {
+                seen.push_back(id);
+                return false;
+            });
+            ASSERT_EQ(seen, expected(x0, x1, y0, y1)) << "[" << x0 << ", " << x1 << "] x [" << y0 << ", " << y1 << "]";
+        }
+    };
+    for (std::uint32_t id = 0; id < 300; ++id) push(id);
+    retired.assign(300, false);
+    check(300);
+    // Every item of the left half retired by one query that passes them all: those cells are
+    // empty now ...
+    for (const Placed& p : all) retired[p.id] = p.x < 0;
+    grid.any_in_retiring(3, -10, -1, -10, 10, [&](std::uint32_t id) { return retired[id]; },
+                         [](std::uint32_t) { return false; });
+    check(300);
+    // ... and seen again once items go into them.
+    for (std::uint32_t id = 300; id < 500; ++id) {
+        push(id);
+        retired.push_back(false);
+    }
+    check(300);
+}
+
 #if defined(__linux__)
 // The line of /proc/self/smaps starting with `field` for the mapping that holds address a.
 static std::string smaps_field_at(std::uintptr_t a, const std::string& field) {

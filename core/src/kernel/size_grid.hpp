@@ -34,6 +34,13 @@ namespace meshd::core::detail {
 /// needs an item moves it there as it passes (any_in_retiring), and only lookups that ask
 /// for every item (any_in_all) walk it. The retired heads sit in the block's second cache
 /// line, which the other queries never read.
+///
+/// Each block also has two masks of its 16 cells (bit 4 (x & 3) + (y & 3)): those whose chain
+/// of items holds any, and those that ever held one. A query ANDs the mask of its rectangle
+/// with them and visits the cells of the bits left, in the order of the bits, which is the
+/// order of the loops over x, then y, that it replaces: most cells of a query's rectangle are
+/// empty, and a query looked at each (on the load run's square, the loops over cells were
+/// two thirds of the grids' instructions in the crossing test).
 template <class Item, bool kRetiring = false>
 class CellGrid {
 public:
@@ -47,6 +54,7 @@ public:
     void reserve(size_t entries) {
         reserve_huge(entries_, entries);
         reserve_huge(blocks_, entries / 32);
+        reserve_huge(masks_, entries / 32);
         if (2 * (entries / 32) > slots_.size()) rehash(std::bit_ceil(2 * (entries / 32)));
     }
 
@@ -61,9 +69,13 @@ public:
     }
     void push(int k, std::int64_t x, std::int64_t y, const Item& item) {
         classes_ |= class_bit(k);
-        std::uint32_t& h = blocks_[block(k, x, y)].head[within(x, y)];
+        const std::uint32_t b = block(k, x, y);
+        const size_t c = within(x, y);
+        std::uint32_t& h = blocks_[b].head[c];
         entries_.push_back({item, h});
         h = static_cast<std::uint32_t>(entries_.size() - 1);
+        masks_[b].live |= static_cast<std::uint16_t>(1u << c);
+        masks_[b].ever |= static_cast<std::uint16_t>(1u << c);
     }
     std::uint32_t next(std::uint32_t entry) const { return entries_[entry].next; }
     const Item& item(std::uint32_t entry) const { return entries_[entry].item; }
@@ -72,8 +84,8 @@ public:
     /// block, until it returns true; returns whether it did. Retired items are not visited.
     template <class Visit>
     bool any_in(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Visit&& visit) const {
-        return for_cells(*this, k, x0, x1, y0, y1, [&](const Block& blk, size_t c) {
-            for (std::uint32_t e = blk.head[c]; e != kNone; e = entries_[e].next)
+        return for_cells(*this, k, x0, x1, y0, y1, &Masks::live, [&](std::uint32_t b, size_t c) {
+            for (std::uint32_t e = blocks_[b].head[c]; e != kNone; e = entries_[e].next)
                 if (visit(entries_[e].item)) return true;
             return false;
         });
@@ -85,7 +97,8 @@ public:
     bool any_in_retiring(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Retire&& retire,
                          Visit&& visit) {
         static_assert(kRetiring);
-        return for_cells(*this, k, x0, x1, y0, y1, [&](Block& blk, size_t c) {
+        return for_cells(*this, k, x0, x1, y0, y1, &Masks::live, [&](std::uint32_t b, size_t c) {
+            Block& blk = blocks_[b];
             std::uint32_t* link = &blk.head[c];
             for (std::uint32_t e = *link; e != kNone; e = *link) {
                 Entry& entry = entries_[e];
@@ -98,6 +111,7 @@ public:
                 if (visit(entry.item)) return true;
                 link = &entry.next;
             }
+            if (blk.head[c] == kNone) masks_[b].live &= static_cast<std::uint16_t>(~(1u << c));
             return false;
         });
     }
@@ -106,7 +120,8 @@ public:
     template <class Visit>
     bool any_in_all(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Visit&& visit) const {
         static_assert(kRetiring);
-        return for_cells(*this, k, x0, x1, y0, y1, [&](const Block& blk, size_t c) {
+        return for_cells(*this, k, x0, x1, y0, y1, &Masks::ever, [&](std::uint32_t b, size_t c) {
+            const Block& blk = blocks_[b];
             for (const std::uint32_t first : {blk.head[c], blk.retired[c]})
                 for (std::uint32_t e = first; e != kNone; e = entries_[e].next)
                     if (visit(entries_[e].item)) return true;
@@ -121,24 +136,36 @@ private:
         [[no_unique_address]] std::conditional_t<kRetiring, std::array<std::uint32_t, 16>, NoChains> retired;
     };
 
-    // Calls cell(block, index within it) for the cells [x0, x1] x [y0, y1] of class k that
-    // have a block, until it returns true; returns whether it did. (Self: the grid, const or
-    // not, so that the blocks are as writable as the grid.)
+    // The cells of a block that hold items (live) or ever held one (ever), by bit
+    // 4 (x & 3) + (y & 3).
+    struct Masks {
+        std::uint16_t live = 0, ever = 0;
+    };
+
+    // Calls cell(block id, index within it) for the cells [x0, x1] x [y0, y1] of class k whose
+    // bit is set in the block's mask `which`, in the order of x, then y, until it returns
+    // true; returns whether it did. (Self: the grid, const or not, so that the blocks are as
+    // writable as the grid.)
     template <class Self, class Cell>
     static bool for_cells(Self& self, int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1,
-                          Cell&& cell) {
+                          std::uint16_t Masks::*which, Cell&& cell) {
         if (!(self.classes_ & class_bit(k))) return false;  // no item of this class anywhere
-        for (std::int64_t bx = x0 >> 2; bx <= x1 >> 2; ++bx)
+        for (std::int64_t bx = x0 >> 2; bx <= x1 >> 2; ++bx) {
+            // The columns x0..x1 within this block: 4 bits each.
+            const auto xa = static_cast<unsigned>(std::max(x0, bx << 2) & 3);
+            const auto xb = static_cast<unsigned>(std::min(x1, (bx << 2) + 3) & 3);
+            const unsigned columns = ((1u << (4 * (xb - xa + 1))) - 1u) << (4 * xa);
             for (std::int64_t by = y0 >> 2; by <= y1 >> 2; ++by) {
                 const std::uint32_t b = self.find_block(k, bx << 2, by << 2);
                 if (b == kNone) continue;
-                auto& blk = self.blocks_[b];
-                const std::int64_t xa = std::max(x0, bx << 2), xb = std::min(x1, (bx << 2) + 3);
-                const std::int64_t ya = std::max(y0, by << 2), yb = std::min(y1, (by << 2) + 3);
-                for (std::int64_t x = xa; x <= xb; ++x)
-                    for (std::int64_t y = ya; y <= yb; ++y)
-                        if (cell(blk, within(x, y))) return true;
+                // The rows y0..y1 within this block, in every column.
+                const auto ya = static_cast<unsigned>(std::max(y0, by << 2) & 3);
+                const auto yb = static_cast<unsigned>(std::min(y1, (by << 2) + 3) & 3);
+                const unsigned rows = (((1u << (yb - ya + 1)) - 1u) << ya) * 0x1111u;
+                for (unsigned m = columns & rows & self.masks_[b].*which; m != 0; m &= m - 1)
+                    if (cell(b, static_cast<size_t>(std::countr_zero(m)))) return true;
             }
+        }
         return false;
     }
     struct Slot {
@@ -179,6 +206,7 @@ private:
         fresh.head.fill(kNone);
         if constexpr (kRetiring) fresh.retired.fill(kNone);
         blocks_.push_back(fresh);
+        masks_.push_back(Masks{});
         slots_[s] = {key, static_cast<std::uint32_t>(blocks_.size() - 1)};
         return slots_[s].block;
     }
@@ -195,6 +223,7 @@ private:
     std::uint64_t classes_ = 0;  // bit k: the grid holds an item of class k (a query of any
                                  // other class ends before its first hash probe)
     HugeVector<Block> blocks_;
+    HugeVector<Masks> masks_;  // by block
     HugeVector<Entry> entries_;
 };
 
