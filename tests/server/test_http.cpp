@@ -727,6 +727,35 @@ TEST_P(Http, ProbesAnswerWhileEveryHttpThreadWaitsAndLeavingClientsCancelTheirJo
     EXPECT_NE(s.log().find("the client closed the connection; cancelling"), std::string::npos);
 }
 
+// A client that closes its connection as soon as its request is sent, long before the
+// server first looks for the connection's socket (when the job has run 100 ms): the socket,
+// closed on the client's side, is still found then, and the job is cancelled, not run out.
+TEST_P(Http, AClientThatLeavesAtOnceStillCancelsItsJob) {
+    auto server = serve({"--workers", "1"});
+    ServerProcess& s = *server;
+    auto c = client(s);
+    auto page = [&] {
+        auto r = c.Get("/metrics");
+        return r && r->status == 200 ? r->body : std::string();
+    };
+    const std::string body = slow_request(0.0007);  // seconds of work: never done first
+    {
+        RawConnection gone(s.port());
+        gone.send_text(post_head("/v1/meshes", body.size()) + body);
+        gone.close();
+    }
+    ASSERT_TRUE(eventually([&] { return series(page(), "meshd_jobs_total{status=\"cancelled\"}") == 1; })) << s.log();
+    EXPECT_EQ(series(page(), "meshd_jobs_total{status=\"succeeded\"}"), 0);
+    EXPECT_NE(s.log().find("the client closed the connection; cancelling"), std::string::npos) << s.log();
+    // The worker is free again: a small request is answered.
+    auto r = c.Post("/v1/meshes", R"({"geometry":{"points":{"A":[0,0],"B":[1,0],"C":[0,1]},
+        "curves":{"a":{"type":"line","from":"A","to":"B"},"b":{"type":"line","from":"B","to":"C"},
+        "c":{"type":"line","from":"C","to":"A"}},"loops":[["a","b","c"]]},"density":{"size":"0.2"}})",
+                    "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200) << r->body;
+}
+
 // Running jobs share --memory-budget-mb by their forecast peaks: one larger than the budget is
 // refused at once; one that does not fit beside a running job waits for it.
 TEST_P(Http, JobsWaitForMemoryAndOneThatNeverFitsIs413) {
