@@ -132,7 +132,7 @@ private:
         prho_.push_back(r);
         home_.push_back(home);
         const int k = classes_.class_of(r);
-        largest_rho_[static_cast<size_t>(k)] = std::fmax(largest_rho_[static_cast<size_t>(k)], r);
+        largest_rho_[static_cast<size_t>(k)] = fmax_inline(largest_rho_[static_cast<size_t>(k)], r);
         points_.push(k, classes_.ix(p.x, k), classes_.iy(p.y, k), GridPoint{p, r, static_cast<std::uint32_t>(pts_.size() - 1)});
         if (max_points_ && pts_.size() > max_points_)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
@@ -159,7 +159,7 @@ private:
         auto half = [](double u, double v) {
             return kMidpointMargin * 0.5 * std::fabs(v - u) + 0x1p-50 * (std::fabs(u) + std::fabs(v));
         };
-        reach = {std::fmax(reach.x, half(pa.x, pb.x)), std::fmax(reach.y, half(pa.y, pb.y))};
+        reach = {fmax_inline(reach.x, half(pa.x, pb.x)), fmax_inline(reach.y, half(pa.y, pb.y))};
     }
 
     // The candidate of (4.3)/(4.7)/(4.12)/(4.19) for segment a -> b with radii ra, rb.
@@ -170,7 +170,7 @@ private:
         const Vec2 u = ab / l, v = perp(u);
         if (ra + rb > l && ra + l > rb && rb + l > ra) {
             const double x = (l * l + ra * ra - rb * rb) / (2.0 * l);
-            const double h = std::sqrt(std::fmax(ra * ra - x * x, 0.0));
+            const double h = std::sqrt(fmax_inline(ra * ra - x * x, 0.0));
             c = a + x * u + h * v;
         } else if (ra + rb <= l) {
             // (4.7-4.9): the point dividing AB as ra : rb. On a segment of the boundary that
@@ -378,7 +378,7 @@ private:
                 if (moved) rc = rho_.interior(c);
             }
         }
-        if (rc > kFieldJump * std::fmax(ra, rb) || kFieldJump * rc < std::fmin(ra, rb)) {
+        if (rc > kFieldJump * fmax_inline(ra, rb) || kFieldJump * rc < fmin_inline(ra, rb)) {
             ++stats_.jumps;
             // Jumps are counted from this stage's start: the closing rounds run it again.
             if (jumps_to_stop_ &&
@@ -389,7 +389,7 @@ private:
         if (const std::uint32_t p = near_other_point(c, rc, seg.a, seg.b); p != kNoPoint) {
             ++stats_.rejected_near;
             front_[s].alive = false;
-            if (rc > kCloseGrowth * std::fmin(ra, rb)) close_on(seg, p);
+            if (rc > kCloseGrowth * fmin_inline(ra, rb)) close_on(seg, p);
             return;
         }
         if (crosses_front(seg.a, seg.b, c)) {

@@ -24,7 +24,7 @@ Box grown_box(const SegmentSoup& soup, double margin) {
     return box;
 }
 
-double longest_side(const Box& b) { return std::fmax(b.hi.x - b.lo.x, b.hi.y - b.lo.y); }
+double longest_side(const Box& b) { return fmax_inline(b.hi.x - b.lo.x, b.hi.y - b.lo.y); }
 
 }  // namespace
 
@@ -40,7 +40,7 @@ SegmentGrid::SegmentGrid(const SegmentSoup& soup, double margin, const Box& box)
     cls_.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) {
         const Vec2 a = soup.points[soup.segments[i][0]], b = soup.points[soup.segments[i][1]];
-        const double side = std::fmax(std::fabs(a.x - b.x), std::fabs(a.y - b.y)) + 2.0 * margin;
+        const double side = fmax_inline(std::fabs(a.x - b.x), std::fabs(a.y - b.y)) + 2.0 * margin;
         cls_[i] = classes_.class_of(0.5 * side);
         used_[static_cast<size_t>(cls_[i])] = true;
         const Cells r = cells(i, cls_[i]);
@@ -51,8 +51,8 @@ SegmentGrid::SegmentGrid(const SegmentSoup& soup, double margin, const Box& box)
 
 SegmentGrid::Cells SegmentGrid::cells(std::uint32_t segment, int k) const {
     const Vec2 a = soup_.points[soup_.segments[segment][0]], b = soup_.points[soup_.segments[segment][1]];
-    return Cells{classes_.ix(std::fmin(a.x, b.x) - margin_, k), classes_.ix(std::fmax(a.x, b.x) + margin_, k),
-                 classes_.iy(std::fmin(a.y, b.y) - margin_, k), classes_.iy(std::fmax(a.y, b.y) + margin_, k)};
+    return Cells{classes_.ix(fmin_inline(a.x, b.x) - margin_, k), classes_.ix(fmax_inline(a.x, b.x) + margin_, k),
+                 classes_.iy(fmin_inline(a.y, b.y) - margin_, k), classes_.iy(fmax_inline(a.y, b.y) + margin_, k)};
 }
 
 namespace {

@@ -215,8 +215,8 @@ bool segments_intersect(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
     const int o4 = static_cast<int>(orient2d(c, d, b));
     if (o1 * o2 < 0 && o3 * o4 < 0) return true;
     auto on_segment = [](Vec2 p, Vec2 q, Vec2 r) {  // r collinear with pq: within its box?
-        return std::fmin(p.x, q.x) <= r.x && r.x <= std::fmax(p.x, q.x) &&
-               std::fmin(p.y, q.y) <= r.y && r.y <= std::fmax(p.y, q.y);
+        return fmin_inline(p.x, q.x) <= r.x && r.x <= fmax_inline(p.x, q.x) &&
+               fmin_inline(p.y, q.y) <= r.y && r.y <= fmax_inline(p.y, q.y);
     };
     if (o1 == 0 && on_segment(a, b, c)) return true;
     if (o2 == 0 && on_segment(a, b, d)) return true;

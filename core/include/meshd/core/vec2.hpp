@@ -33,6 +33,13 @@ constexpr Vec2 perp(Vec2 a) { return {-a.y, a.x}; }
 inline bool is_finite(Vec2 a) { return std::isfinite(a.x) && std::isfinite(a.y); }
 constexpr Vec2 lerp(Vec2 a, Vec2 b, double t) { return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)}; }
 
+/// std::fmax's and std::fmin's values, bit for bit (the number when the other is a NaN, as
+/// a NaN a fails both comparisons; of two equal values, zeros of either sign included, the
+/// second, as glibc's maxsd and minsd give), without their call into the maths library: on
+/// the load run's square the front's 32,000 calls were 1% of its instructions.
+constexpr double fmax_inline(double a, double b) { return b != b || a > b ? a : b; }
+constexpr double fmin_inline(double a, double b) { return b != b || a < b ? a : b; }
+
 /// Axis-aligned bounding box; empty until the first point is added.
 struct Box {
     Vec2 lo{HUGE_VAL, HUGE_VAL};
