@@ -15,22 +15,23 @@
 #include <vector>
 
 #include "meshd/api/writers.hpp"
+#include "writers/shortest.hpp"
 
 namespace meshd::api::writers {
 
 using core::Mesh;
 using core::MeshResult;
 
-// Shortest text that reads back to the same double.
+// Shortest text that reads back to the same double (std::to_chars's, faster: shortest.hpp),
+// written where it goes.
 struct Num {
-    char buf[32];
-    size_t len;
-    explicit Num(double v) {
-        auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
-        len = ec == std::errc() ? static_cast<size_t>(p - buf) : 0;
-    }
+    double v;
+    explicit Num(double value) : v(value) {}
 };
-inline std::ostream& operator<<(std::ostream& os, const Num& n) { return os.write(n.buf, static_cast<std::streamsize>(n.len)); }
+inline std::ostream& operator<<(std::ostream& os, const Num& n) {
+    char buf[kShortestMax];
+    return os.write(buf, shortest(buf, n.v) - buf);
+}
 
 // Text into a stream through a buffer of its own: numbers by to_chars and runs of
 // characters by memcpy, the stream seeing one write per 64 KiB. Through the stream's own
@@ -61,7 +62,11 @@ public:
     }
     TextOut& operator<<(const char* s) { return *this << std::string_view(s); }
     TextOut& operator<<(const std::string& s) { return *this << std::string_view(s); }
-    TextOut& operator<<(const Num& v) { return *this << std::string_view(v.buf, v.len); }
+    TextOut& operator<<(const Num& v) {
+        room(kShortestMax);
+        n_ = static_cast<size_t>(shortest(buf_ + n_, v.v) - buf_);
+        return *this;
+    }
     template <class I>
         requires std::is_integral_v<I>
     TextOut& operator<<(I v) {
