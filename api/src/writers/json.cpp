@@ -59,19 +59,24 @@ void write_json(const MeshResult& r, std::ostream& stream, bool sizes) {
     os << "{\"mesh\":{" << (quadratic ? "\"order\":2," : "") << "\"points\":[";
     for (size_t v = 0; v < all_points(m); ++v) {
         const core::Vec2 p = any_point(m, v);
-        os << (v ? ",[" : "[") << Num(p.x) << ',' << Num(p.y) << ']';
+        if (v) os << ',';
+        os << '[' << Num(p.x) << ',' << Num(p.y) << ']';
     }
     os << ']';
     if (sizes) {
         os << ",\"sizes\":[";
         const std::vector<double> size = point_sizes(m);
-        for (size_t v = 0; v < size.size(); ++v) os << (v ? "," : "") << Num(size[v]);
+        for (size_t v = 0; v < size.size(); ++v) {
+            if (v) os << ',';
+            os << Num(size[v]);
+        }
         os << ']';
     }
     os << ",\"triangles\":[";
     for (size_t t = 0; t < m.triangles.size(); ++t) {
         const auto& T = m.triangles[t];
-        os << (t ? ",[" : "[") << T.v[0] << ',' << T.v[1] << ',' << T.v[2];
+        if (t) os << ',';
+        os << '[' << T.v[0] << ',' << T.v[1] << ',' << T.v[2];
         if (quadratic) {
             const auto six = six_nodes(m, t);
             os << ',' << six[3] << ',' << six[4] << ',' << six[5];
@@ -83,7 +88,8 @@ void write_json(const MeshResult& r, std::ostream& stream, bool sizes) {
         os << ",\"quads\":[";
         for (size_t q = 0; q < m.quads.size(); ++q) {
             const auto& Q = m.quads[q];
-            os << (q ? ",[" : "[") << Q[0] << ',' << Q[1] << ',' << Q[2] << ',' << Q[3] << ']';
+            if (q) os << ',';
+            os << '[' << Q[0] << ',' << Q[1] << ',' << Q[2] << ',' << Q[3] << ']';
         }
         os << ']';
     }
@@ -92,7 +98,8 @@ void write_json(const MeshResult& r, std::ostream& stream, bool sizes) {
     for (size_t g = 0; g < groups.size(); ++g) {
         os << (g ? "," : "") << nlohmann::json(m.tags[g]).dump() << ":[";
         for (size_t i = 0; i < groups[g].size(); ++i) {
-            os << (i ? ",[" : "[") << groups[g][i]->a << ',' << groups[g][i]->b;
+            if (i) os << ',';
+            os << '[' << groups[g][i]->a << ',' << groups[g][i]->b;
             if (quadratic) os << ',' << edge_middle(m, *groups[g][i]);
             os << ']';
         }
