@@ -133,7 +133,7 @@ char* put_decimal(char* out, std::uint64_t d, int n, int e10) {
 }  // namespace
 
 int floor_log10_pow2(int e) {
-    // 78913 / 2^18 is log10(2) to within 8e-7; over [-46, 52] no multiple of log10(2) but
+    // 78913 / 2^18 is log10(2) to within 8e-7; over [-33, 52] no multiple of log10(2) but
     // zero's is that close to an integer (the test checks the range against powers of ten).
     return (e * 78913) >> 18;
 }

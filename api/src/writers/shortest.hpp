@@ -23,7 +23,7 @@ inline constexpr std::size_t kShortestMax = 48;
 /// kShortestMax characters. Returns the end of what was written.
 char* shortest(char* out, double v);
 
-/// floor(log10(2^e)) for e in [-46, 52], the range `shortest` asks (exposed for its test).
+/// floor(log10(2^e)) for e in [-33, 52], the range `shortest` asks (exposed for its test).
 int floor_log10_pow2(int e);
 
 }  // namespace meshd::api::writers
