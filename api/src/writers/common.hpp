@@ -33,10 +33,10 @@ inline std::ostream& operator<<(std::ostream& os, const Num& n) {
     return os.write(buf, shortest(buf, n.v) - buf);
 }
 
-// Text into a stream through a buffer of its own: numbers by to_chars and runs of
-// characters by memcpy, the stream seeing one write per 64 KiB. Through the stream's own
-// operators each token paid a sentry and a locale lookup: 3% of the server's time in the load
-// run (docs/benchmarks.md). Flushes when destroyed.
+// Text into a stream through a buffer of its own: doubles by shortest(), integers by
+// to_chars and runs of characters by memcpy, the stream seeing one write per 64 KiB. Through
+// the stream's own operators each token paid a sentry and a locale lookup: 3% of the server's
+// time in the load run (docs/benchmarks.md). Flushes when destroyed.
 class TextOut {
 public:
     explicit TextOut(std::ostream& os) : os_(os) {}
