@@ -15,9 +15,24 @@ trap 'kill $pid 2>/dev/null || true' EXIT
 for _ in $(seq 50); do curl -fs "http://127.0.0.1:$port/healthz" >/dev/null && break; sleep 0.1; done
 curl -fs -X POST -H 'Content-Type: application/json' --data-binary @bench/load/small_square.json \
   "http://127.0.0.1:$port/v1/meshes" | python3 -c 'import json,sys; m=json.load(sys.stdin)["metrics"]; print("mesh:", m["points"], "points,", m["triangles"], "triangles")'
+# The server's CPU time and answered meshes around the run: what one answer costs the machine,
+# a figure the neighbours' share of a shared host moves less than the rate.
+counts() {
+  curl -fs "http://127.0.0.1:$port/metrics" | awk '
+    /^process_cpu_seconds_total / { cpu = $2 }
+    /^meshd_http_requests_total\{route="\/v1\/meshes",status="200"\}/ { ok = $2 }
+    END { printf "%s %d\n", cpu, ok }'
+}
+read -r cpu0 ok0 < <(counts)
 MESHD_LOAD_REQUEST=bench/load/small_square.json wrk -t 4 -c 64 -d "${secs}s" --latency -s bench/load/post.lua \
   "http://127.0.0.1:$port/v1/meshes"
+read -r cpu1 ok1 < <(counts)
 curl -fs "http://127.0.0.1:$port/metrics" | grep -E '^meshd_http_requests_total\{route="/v1/meshes"'
+awk -v c0="$cpu0" -v c1="$cpu1" -v n0="$ok0" -v n1="$ok1" -v cores="$(nproc)" 'BEGIN {
+  n = n1 - n0; if (n <= 0) exit
+  ms = 1000 * (c1 - c0) / n
+  printf "server CPU per answered mesh: %.2f ms (%d answers); %d cores make at most %.0f requests/s at that cost\n", ms, n, cores, 1000 * cores / ms
+}'
 kill -TERM $pid
 wait $pid
 echo "server exited $?"

@@ -1,5 +1,7 @@
 #include "meshd/server/metrics.hpp"
 
+#include <sys/resource.h>
+
 #include <cstdio>
 
 namespace meshd::server {
@@ -131,6 +133,17 @@ std::string Metrics::render() const {
             auto it = store_events_.find(e);
             o += std::string("meshd_store_jobs_total{event=\"") + e + "\"} " + std::to_string(it == store_events_.end() ? 0 : it->second) + "\n";
         }
+    }
+    // The process's CPU time, user and system, every thread's: with the requests' count, what
+    // one answer costs the machine (scripts/load.sh reports it per request).
+    rusage u{};
+    if (getrusage(RUSAGE_SELF, &u) == 0) {
+        const double cpu = static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+                           1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+        char b[32];
+        std::snprintf(b, sizeof b, "%.6f", cpu);
+        o += "# HELP process_cpu_seconds_total CPU time of the server process (user and system), in seconds.\n"
+             "# TYPE process_cpu_seconds_total counter\nprocess_cpu_seconds_total " + std::string(b) + "\n";
     }
     o += "# HELP meshd_points_total Points of all meshes made.\n# TYPE meshd_points_total counter\nmeshd_points_total " + std::to_string(points_) + "\n";
     o += "# HELP meshd_triangles_total Triangles of all meshes made.\n# TYPE meshd_triangles_total counter\nmeshd_triangles_total " + std::to_string(triangles_) + "\n";

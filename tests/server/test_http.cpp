@@ -148,8 +148,27 @@ TEST_P(Http, HealthReadinessMetricsOpenApi) {
     EXPECT_NE(m->get_header_value("Content-Type").find("text/plain"), std::string::npos);
     for (const char* name : {"meshd_http_requests_total", "meshd_http_request_duration_seconds_bucket", "meshd_jobs_total",
                              "meshd_queue_depth", "meshd_workers_busy", "meshd_points_total", "meshd_triangles_total",
-                             "meshd_job_duration_seconds_bucket"})
+                             "meshd_job_duration_seconds_bucket", "process_cpu_seconds_total"})
         EXPECT_NE(m->body.find(name), std::string::npos) << name;
+    // The process's CPU time: a counter that a mesh made between two reads does not lower,
+    // and above zero once a mesh was made.
+    auto cpu_seconds = [&] {
+        auto r = c.Get("/metrics");
+        EXPECT_TRUE(r);
+        if (!r) return -1.0;
+        const std::string key = "\nprocess_cpu_seconds_total ";
+        const auto at = r->body.find(key);
+        EXPECT_NE(at, std::string::npos);
+        return at == std::string::npos ? -1.0 : std::stod(r->body.substr(at + key.size()));
+    };
+    const double cpu_before = cpu_seconds();
+    auto meshed = c.Post("/v1/meshes", naca_request(), "application/json");
+    ASSERT_TRUE(meshed);
+    EXPECT_EQ(meshed->status, 200);
+    const double cpu_after = cpu_seconds();
+    EXPECT_GE(cpu_before, 0.0);
+    EXPECT_GE(cpu_after, cpu_before);
+    EXPECT_GT(cpu_after, 0.0);
 
     // OpenAPI: every documented operation exists, and every route is documented.
     auto o = c.Get("/v1/openapi.json");
