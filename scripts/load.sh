@@ -15,8 +15,9 @@ trap 'kill $pid 2>/dev/null || true' EXIT
 for _ in $(seq 50); do curl -fs "http://127.0.0.1:$port/healthz" >/dev/null && break; sleep 0.1; done
 curl -fs -X POST -H 'Content-Type: application/json' --data-binary @bench/load/small_square.json \
   "http://127.0.0.1:$port/v1/meshes" | python3 -c 'import json,sys; m=json.load(sys.stdin)["metrics"]; print("mesh:", m["points"], "points,", m["triangles"], "triangles")'
-# The server's CPU time and answered meshes around the run: what one answer costs the machine,
-# a figure the neighbours' share of a shared host moves less than the rate.
+# The server's CPU time and answered meshes around the run: what one answer costs the server,
+# and so the rate the cores would make if the server had them to itself (wrk and the kernel's
+# side of loopback take the rest).
 counts() {
   curl -fs "http://127.0.0.1:$port/metrics" | awk '
     /^process_cpu_seconds_total / { cpu = $2 }
