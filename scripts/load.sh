@@ -19,16 +19,16 @@ curl -fs -X POST -H 'Content-Type: application/json' --data-binary @bench/load/s
 # and so the rate the cores would make if the server had them to itself (wrk and the kernel's
 # side of loopback take the rest).
 counts() {
-  curl -fs "http://127.0.0.1:$port/metrics" | awk '
-    /^process_cpu_seconds_total / { cpu = $2 }
-    /^meshd_http_requests_total\{route="\/v1\/meshes",status="200"\}/ { ok = $2 }
-    END { printf "%s %d\n", cpu, ok }'
+  awk '/^process_cpu_seconds_total / { cpu = $2 }
+       /^meshd_http_requests_total\{route="\/v1\/meshes",status="200"\}/ { ok = $2 }
+       END { printf "%s %d\n", cpu, ok }' <<<"$1"
 }
-read -r cpu0 ok0 < <(counts)
+read -r cpu0 ok0 < <(counts "$(curl -fs "http://127.0.0.1:$port/metrics")")
 MESHD_LOAD_REQUEST=bench/load/small_square.json wrk -t 4 -c 64 -d "${secs}s" --latency -s bench/load/post.lua \
   "http://127.0.0.1:$port/v1/meshes"
-read -r cpu1 ok1 < <(counts)
-curl -fs "http://127.0.0.1:$port/metrics" | grep -E '^meshd_http_requests_total\{route="/v1/meshes"'
+after=$(curl -fs "http://127.0.0.1:$port/metrics")
+read -r cpu1 ok1 < <(counts "$after")
+grep -E '^meshd_http_requests_total\{route="/v1/meshes"' <<<"$after"
 awk -v c0="$cpu0" -v c1="$cpu1" -v n0="$ok0" -v n1="$ok1" -v cores="$(nproc)" 'BEGIN {
   n = n1 - n0; if (n <= 0) exit
   ms = 1000 * (c1 - c0) / n

@@ -144,8 +144,8 @@ private:
 
     // Calls cell(block id, index within it) for the cells [x0, x1] x [y0, y1] of class k whose
     // bit is set in the block's mask `which` (block by block, within a block along x, then y),
-    // until it returns true; returns whether it did. (Self: the grid, const or not, so that the blocks are as
-    // writable as the grid.)
+    // until it returns true; returns whether it did. (Self: the grid, const or not, so that
+    // the blocks are as writable as the grid.)
     template <class Self, class Cell>
     static bool for_cells(Self& self, int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1,
                           std::uint16_t Masks::*which, Cell&& cell) {
