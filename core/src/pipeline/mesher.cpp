@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <unordered_map>
 
 #include "boundary/boundary.hpp"
@@ -60,7 +61,7 @@ double ms_since(Clock::time_point t0) {
 // points (with boundary layers: the layers' outer edge after the original's points), `edges`
 // the boundary's own segments and curves.
 void assemble(Mesh& m, const Domain& domain, const Discretisation& d, const Discretisation& edges,
-              const std::vector<Vec2>& inner, std::vector<Triangle> triangles) {
+              std::span<const Vec2> inner, std::vector<Triangle> triangles) {
     const size_t n = d.size() + inner.size();
     detail::reserve_filled(m.x, n);
     detail::reserve_filled(m.y, n);
@@ -393,23 +394,21 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
                 jumped = true;
                 break;
             }
-            {
-                // Along a Hilbert curve: neighbours in the mesh become neighbours in memory, which
-                // the triangle order (order_by_largest_corner) and every later sweep profit from.
-                const detail::HugeVector<std::uint32_t> order = detail::hilbert_order(inner);
-                std::vector<Vec2> sorted;
-                detail::assign_huge(sorted, inner.size(), Vec2{});
-                for (size_t i = 0; i < order.size(); ++i) sorted[i] = inner[order[i]];
-                inner = std::move(sorted);
-            }
+            // Along a Hilbert curve: neighbours in the mesh become neighbours in memory, which
+            // the triangle order (order_by_largest_corner) and every later sweep profit from.
+            detail::HugeVector<std::uint32_t> order = detail::hilbert_order(inner);
             r.timings.interior_ms += ms_since(t0);
 
-            // Triangulation.
+            // Triangulation: the fixed points, then the interior points in that order (copied
+            // there once: a sorted copy of its own cost fresh pages as large).
             begin(Stage::Triangulation);
             t0 = Clock::now();
             std::vector<Vec2> pts = std::move(walls.points);
-            detail::reserve_filled(pts, pts.size() + inner.size());
-            pts.insert(pts.end(), inner.begin(), inner.end());
+            const size_t fixed_count = pts.size();
+            detail::reserve_filled(pts, fixed_count + inner.size());
+            for (const std::uint32_t i : order) pts.push_back(inner[i]);
+            std::vector<Vec2>().swap(inner);
+            detail::HugeVector<std::uint32_t>().swap(order);
             const std::vector<Constraint> cons = constraints_of(fixed);
             TriangulationResult tr = options.triangulator == Triangulator::Delaunay
                                          ? triangulate_delaunay(pts, cons, observer)
@@ -417,7 +416,8 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             for (size_t i = 0; i < tr.alias.size(); ++i)
                 MESHD_INTERNAL_CHECK(tr.alias[i] == i, "two mesh points coincide");
             r.stats.triangulation = tr.stats;
-            assemble(m, domain, fixed, layers ? layers->boundary : d, inner, std::move(tr.triangles));
+            assemble(m, domain, fixed, layers ? layers->boundary : d, std::span<const Vec2>(pts).subspan(fixed_count),
+                     std::move(tr.triangles));
             r.timings.triangulation_ms += ms_since(t0);
 
             // Improvement.
