@@ -88,9 +88,7 @@ double shape(Vec2 a, Vec2 b, Vec2 c) {
 class Smoother {
 public:
     Smoother(Mesh& m, const Domain* domain, Observer* observer)
-        : m_(m), domain_(domain), observer_(observer), pts_(points_of(m)), soup_(pts_, m.triangles, true) {
-        detail::assign_huge(seen_, m.triangles.size(), std::uint32_t{0});
-    }
+        : m_(m), domain_(domain), observer_(observer), pts_(points_of(m)), soup_(pts_, m.triangles, true) {}
 
     ~Smoother() = default;
     Smoother(const Smoother&) = delete;
@@ -137,6 +135,10 @@ public:
             active.swap(next);
             std::fill(next.begin(), next.end(), 0);
         }
+        // The tables go before the flips and the repair, which do not use them (a third of
+        // the smoothing's memory; the pipeline's peak was in the repair).
+        detail::HugeVector<std::uint32_t>().swap(offset_);
+        detail::HugeVector<std::array<std::uint32_t, 2>>().swap(opposite_);
         // The Delaunay property, once.
         if (moves > 0) restore_delaunay();
         return moves;
@@ -156,6 +158,8 @@ public:
     // rounds, as moving one corner changes its neighbours' stars; after the first, only the
     // triangles around the corners that moved are looked at again.
     std::uint64_t repair() {
+        // Made here rather than with the smoother: the sweeps' tables are gone by now.
+        if (seen_.size() != m_.triangles.size()) detail::assign_huge(seen_, m_.triangles.size(), std::uint32_t{0});
         std::vector<TriangleId> suspects(m_.triangles.size());
         for (TriangleId t = 0; t < suspects.size(); ++t) suspects[t] = t;
         std::uint64_t total = 0;
