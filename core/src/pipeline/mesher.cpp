@@ -403,21 +403,23 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             // there once: a sorted copy of its own cost fresh pages as large).
             begin(Stage::Triangulation);
             t0 = Clock::now();
-            std::vector<Vec2> pts = std::move(walls.points);
-            const size_t fixed_count = pts.size();
-            detail::reserve_filled(pts, fixed_count + inner.size());
-            for (const std::uint32_t i : order) pts.push_back(inner[i]);
-            std::vector<Vec2>().swap(inner);
-            detail::HugeVector<std::uint32_t>().swap(order);
-            const std::vector<Constraint> cons = constraints_of(fixed);
-            TriangulationResult tr = options.triangulator == Triangulator::Delaunay
-                                         ? triangulate_delaunay(pts, cons, observer)
-                                         : triangulate_advancing_front(pts, cons, observer);
-            for (size_t i = 0; i < tr.alias.size(); ++i)
-                MESHD_INTERNAL_CHECK(tr.alias[i] == i, "two mesh points coincide");
-            r.stats.triangulation = tr.stats;
-            assemble(m, domain, fixed, layers ? layers->boundary : d, std::span<const Vec2>(pts).subspan(fixed_count),
-                     std::move(tr.triangles));
+            {
+                std::vector<Vec2> pts = std::move(walls.points);
+                const size_t fixed_count = pts.size();
+                detail::reserve_filled(pts, fixed_count + inner.size());
+                for (const std::uint32_t i : order) pts.push_back(inner[i]);
+                std::vector<Vec2>().swap(inner);
+                detail::HugeVector<std::uint32_t>().swap(order);
+                const std::vector<Constraint> cons = constraints_of(fixed);
+                TriangulationResult tr = options.triangulator == Triangulator::Delaunay
+                                             ? triangulate_delaunay(pts, cons, observer)
+                                             : triangulate_advancing_front(pts, cons, observer);
+                for (size_t i = 0; i < tr.alias.size(); ++i)
+                    MESHD_INTERNAL_CHECK(tr.alias[i] == i, "two mesh points coincide");
+                r.stats.triangulation = tr.stats;
+                assemble(m, domain, fixed, layers ? layers->boundary : d,
+                         std::span<const Vec2>(pts).subspan(fixed_count), std::move(tr.triangles));
+            }  // the triangulation's points and aliases go before the smoothing (the peak's stage)
             r.timings.triangulation_ms += ms_since(t0);
 
             // Improvement.
