@@ -55,9 +55,10 @@ inline constexpr size_t kMaxPointsLimit = size_t{1} << 28;
 
 /// The peak memory of generate_mesh for a mesh of `points` points: a fixed part and a part
 /// per point, measured on uniform squares of 0.29, 1.2 and 4.6 million points (docs/
-/// benchmarks.md: 219 to 229 bytes per point at the larger two, 283 at the smallest, where
-/// the stages' arrays rounded up to whole 2 MiB pages weigh most) and rounded up; the
-/// caller's copy of the result (MeshResult) is included, a writer's output is not.
+/// benchmarks.md: 177 and 202 bytes per point at the larger two, 246 at the smallest, where
+/// the stages' arrays rounded up to whole 2 MiB pages weigh most; 219 to 283 before the
+/// stages let their arrays go earlier) and rounded up; the caller's copy of the result
+/// (MeshResult) is included, a writer's output is not.
 inline constexpr size_t kPeakBytesBase = size_t{32} << 20;
 inline constexpr size_t kPeakBytesPerPoint = 256;
 inline size_t peak_bytes_for(double points) {
