@@ -54,7 +54,15 @@ double estimate_point_count(const Discretisation& boundary, const BoundaryTriang
 /// samples the boundary points and the interior, then sets them as the gradation sources.
 /// The samples follow the field before the limit, so a field that would give more than
 /// max_points points is refused (refuse_too_many) as soon as the sampling shows it.
+/// The samples' memory stays with the field to the end of the run, beside the peak that
+/// `forecast_points` makes (peak_bytes_for): the observer hears the two together as the
+/// samples grow (Observer::on_forecast), from 2^16 samples and at each doubling after.
 void set_gradation_sources(SizeField& rho, const Discretisation& boundary, const BoundaryTriangulation& walls,
-                           size_t max_points, Observer* observer = nullptr);
+                           size_t max_points, Observer* observer = nullptr, double forecast_points = 0.0);
+
+/// The memory a gradation source takes while the sources are gathered and the field's tree
+/// is built (the gathered arrays, grown by doubling, beside the field's copy and its nodes),
+/// an upper bound of what it keeps.
+inline constexpr size_t kGradationBytesPerSource = 96;
 
 }  // namespace meshd::core

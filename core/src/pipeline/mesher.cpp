@@ -298,7 +298,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         if (rho.gradation()) {
             // Limit the growth of the field sampled from the first boundary, then place the
             // boundary points again along the limited field (and interpolate from those).
-            set_gradation_sources(rho, d, walls, options.max_points, observer);
+            set_gradation_sources(rho, d, walls, options.max_points, observer, r.stats.forecast_points);
             d = discretise_boundary(domain, rho, bopt, observer);
             if (rho.interpolates()) set_interpolation_sources(rho, d);
             walls = triangulate_boundary(d);

@@ -32,6 +32,9 @@ public:
     /// forecast (twice the forecast, four times...): a size field with a fine region narrower
     /// than the forecast's samples can hold many times the points forecast. The run holds its
     /// memory by then, so an observer should not wait here; it may throw to stop the run.
+    /// Called again too, with the same points and more memory, as a gradation gathers its
+    /// sources (from 2^16 on, at each doubling): they stay with the size field to the end of
+    /// the run, and where the boundary's triangulation has slivers they outnumber the points.
     virtual void on_forecast(double points, std::size_t peak_bytes) { (void)points; (void)peak_bytes; }
 };
 
