@@ -121,6 +121,16 @@ void refuse_too_many(double estimate, size_t limit) {
                         "the mesh would have " + about + " points, above the limit of " + std::to_string(limit));
 }
 
+namespace {
+// The memory a gradation source takes while the sources are gathered and the field's tree is
+// built (the gathered arrays, grown by doubling, beside the field's copy and its nodes): an
+// upper bound of what it keeps.
+constexpr size_t kGradationBytesPerSource = 96;
+// The observer hears of the sources from this many on (then at each doubling, and once at the
+// end): fewer are within what the forecast's peak allows for.
+constexpr size_t kFirstSourcesReport = size_t{1} << 16;
+}  // namespace
+
 void set_gradation_sources(SizeField& rho, const Discretisation& d, const BoundaryTriangulation& walls,
                            size_t max_points, Observer* observer, double forecast_points) {
     // The boundary points with their curve densities, then the interior at its own size. The
@@ -135,7 +145,7 @@ void set_gradation_sources(SizeField& rho, const Discretisation& d, const Bounda
     // The samples run to 20 a mesh point where the boundary's triangulation has slivers (2.8
     // million, 200 MB, for the 145,000 points of the NACA 0006 case with a gradation, whose
     // forecast peak is 68 MB): a budget that reserved the forecast's peak hears of them.
-    size_t report_at = size_t{1} << 16;
+    size_t report_at = kFirstSourcesReport;
     auto report = [&] {
         if (observer)
             observer->on_forecast(forecast_points, peak_bytes_for(forecast_points) + kGradationBytesPerSource * pts.size());
@@ -151,7 +161,7 @@ void set_gradation_sources(SizeField& rho, const Discretisation& d, const Bounda
         return total <= limit;
     });
     if (total > limit) refuse_too_many(total, max_points);
-    if (pts.size() >= size_t{1} << 16) report();
+    if (pts.size() >= kFirstSourcesReport) report();
     rho.set_gradation_sources(pts, sizes);
 }
 

@@ -60,9 +60,4 @@ double estimate_point_count(const Discretisation& boundary, const BoundaryTriang
 void set_gradation_sources(SizeField& rho, const Discretisation& boundary, const BoundaryTriangulation& walls,
                            size_t max_points, Observer* observer = nullptr, double forecast_points = 0.0);
 
-/// The memory a gradation source takes while the sources are gathered and the field's tree
-/// is built (the gathered arrays, grown by doubling, beside the field's copy and its nodes),
-/// an upper bound of what it keeps.
-inline constexpr size_t kGradationBytesPerSource = 96;
-
 }  // namespace meshd::core
