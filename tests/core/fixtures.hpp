@@ -95,7 +95,7 @@ inline DomainSpec three_element_wing(Vec2 flap_leading_edge) {
 
 /// Triangles as sorted vertex triples (each rotated to start at its smallest vertex), for
 /// comparing triangulations whatever their order.
-inline std::vector<std::array<std::uint32_t, 3>> canonical(const std::vector<core::Triangle>& tris) {
+inline std::vector<std::array<std::uint32_t, 3>> canonical(const core::Array<core::Triangle>& tris) {
     std::vector<std::array<std::uint32_t, 3>> out;
     for (const core::Triangle& t : tris) {
         std::array<std::uint32_t, 3> v = t.v;

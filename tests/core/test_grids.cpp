@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -322,18 +323,18 @@ TEST(HugePages, ALargeReservationIsMarkedForHugePagesAndKeepsItsContents) {
 
 // The stages' own arrays start on a huge page whatever malloc would have done, keep their
 // contents as they grow, and populate() makes their pages without a write.
-TEST(HugePages, AHugeVectorStartsOnAHugePageAndPopulateMakesItsPagesAtOnce) {
+TEST(HugePages, AnArrayStartsOnAHugePageAndPopulateMakesItsPagesAtOnce) {
     std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
     std::string mode((std::istreambuf_iterator<char>(thp)), std::istreambuf_iterator<char>());
     ASSERT_FALSE(mode.empty() || mode.find("[never]") != std::string::npos)
         << "transparent huge pages are off on this machine: " << mode;
     constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
 
-    detail::HugeVector<std::uint64_t> v{1, 2, 3};
+    Array<std::uint64_t> v{1, 2, 3};
     detail::reserve_huge(v, (std::size_t{3} << 20) + 5);  // 24 MiB and a bit: 13 huge pages
     const auto at = reinterpret_cast<std::uintptr_t>(v.data());
     EXPECT_EQ(at % kHuge, 0u);
-    EXPECT_EQ(v, (detail::HugeVector<std::uint64_t>{1, 2, 3}));
+    EXPECT_EQ(v, (Array<std::uint64_t>{1, 2, 3}));
     EXPECT_NE(vm_flags_at(at).find(" hg"), std::string::npos) << vm_flags_at(at);
     // Nothing past the first page has been written: the mapping is almost all unmade.
     const std::size_t bytes = v.capacity() * sizeof(std::uint64_t);
@@ -353,14 +354,118 @@ TEST(HugePages, AHugeVectorStartsOnAHugePageAndPopulateMakesItsPagesAtOnce) {
 
     // Small ones come from operator new and work as any vector, aligned as their type asks
     // (the interior grids' blocks are cache lines; UBSan reports a misaligned one).
-    detail::HugeVector<int> small(1000, 5);
+    Array<int> small(1000, 5);
     EXPECT_EQ(std::count(small.begin(), small.end(), 5), 1000);
     struct alignas(64) Line {
         char bytes[64];
     };
     for (int i = 0; i < 8; ++i) {
-        detail::HugeVector<Line> lines(static_cast<std::size_t>(i) + 1);
+        Array<Line> lines(static_cast<std::size_t>(i) + 1);
         EXPECT_EQ(reinterpret_cast<std::uintptr_t>(lines.data()) % 64, 0u);
+    }
+}
+
+// Freed large blocks serve the next large allocations of the same thread inside a
+// BlockReuse: the same pages, cut down or grown to the size asked. The blocks kept never
+// take the thread's large blocks above the most that were live at once, the outermost scope
+// returns them, and nothing is kept outside a scope or from another thread. (The expected
+// figures follow from the rules in memory.hpp, step by step.)
+TEST(BlockReuse, FreedBlocksServeTheNextAllocationsAndNeverRaiseThePeak) {
+    constexpr std::size_t MiB = std::size_t{1} << 20;
+    constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+    using Bytes = Array<char>;
+    auto address = [](const void* p) { return reinterpret_cast<std::uintptr_t>(p); };
+    auto mapped = [&](const void* p) { return !smaps_field_at(address(p), "Size:").empty(); };
+    auto counters = [] { return detail::block_counters(); };
+    ASSERT_EQ(counters().kept_bytes, 0u);
+
+    // Outside a scope a freed block is unmapped at once.
+    {
+        Bytes outside(8 * MiB);
+        const char* at = outside.data();
+        EXPECT_EQ(address(at) % kHuge, 0u);
+        Bytes().swap(outside);
+        EXPECT_EQ(counters().kept_bytes, 0u);
+        EXPECT_FALSE(mapped(at));
+    }
+
+    const char* grown_at = nullptr;
+    {
+        const detail::BlockReuse scope;
+        const auto start = counters();
+        Bytes a(64 * MiB, 'a');  // live 64: the most so far
+        const char* at = a.data();
+        Bytes().swap(a);  // kept 64
+        EXPECT_EQ(counters().kept_bytes, 64 * MiB);
+        EXPECT_TRUE(mapped(at));
+
+        // A smaller block takes it, cut down: its tail goes back at once.
+        Bytes b(40 * MiB);  // live 40, kept 0
+        EXPECT_EQ(b.data(), at);
+        EXPECT_EQ(counters().kept_bytes, 0u);
+        EXPECT_FALSE(mapped(at + 40 * MiB));
+        EXPECT_EQ(counters().reused_bytes - start.reused_bytes, 40 * MiB);
+
+        // A larger block grows the largest kept one: only its new part is fresh.
+        Bytes c(8 * MiB);  // fresh: live 48
+        const char* c_at = c.data();
+        Bytes().swap(c);   // live 40, kept 8
+        Bytes d(20 * MiB);  // the 8 grown to 20: live 60, kept 0
+        EXPECT_EQ(address(d.data()) % kHuge, 0u);
+        EXPECT_FALSE(mapped(c_at));  // moved, pages and all
+        EXPECT_EQ(counters().kept_bytes, 0u);
+        EXPECT_EQ(counters().reused_bytes - start.reused_bytes, 48 * MiB);
+        EXPECT_EQ(counters().mapped_bytes - start.mapped_bytes, (64 + 8 + 12) * MiB);
+        d[0] = 'd';
+        d[20 * MiB - 1] = 'd';  // every byte of it is there (ASan and the kernel would say)
+
+        // A nested scope keeps nothing of its own and returns nothing when it ends.
+        {
+            const detail::BlockReuse inner;
+            Bytes().swap(d);  // live 40, kept 20
+        }
+        EXPECT_EQ(counters().kept_bytes, 20 * MiB);
+
+        // The bound. With b gone too (live 0, kept 20 and 40; the most live so far 64), two
+        // of 30 come from kept pages: the 40 cut to 30, the 20 grown to 30 (live 60).
+        Bytes().swap(b);
+        EXPECT_EQ(counters().kept_bytes, 60 * MiB);
+        Bytes f(30 * MiB), g(30 * MiB);
+        EXPECT_EQ(counters().kept_bytes, 0u);
+        EXPECT_EQ(counters().mapped_bytes - start.mapped_bytes, (64 + 8 + 12 + 10) * MiB);
+        // Both go (kept 60); one of 70 grows a 30 (live 70, the most now), and the other 30
+        // would take the thread to 100: it goes back.
+        Bytes().swap(f);
+        Bytes().swap(g);
+        Bytes h(70 * MiB);
+        EXPECT_EQ(counters().kept_bytes, 0u);
+        // Where the excess is smaller than the smallest kept block, that block is cut.
+        Bytes i(10 * MiB);  // fresh: live 80, the most
+        Bytes().swap(h);    // live 10, kept 70
+        Bytes m(20 * MiB);  // the 70 cut to 20: live 30, kept 0
+        Bytes n(10 * MiB);  // fresh: live 40
+        Bytes().swap(m);
+        Bytes().swap(n);    // live 10, kept 20 and 10
+        Bytes p(64 * MiB);  // the 20 grown to 64: live 74, kept 10, 4 over the most: cut to 6
+        EXPECT_EQ(counters().kept_bytes, 6 * MiB);
+        grown_at = p.data();
+        Bytes().swap(p);
+        Bytes().swap(i);
+        EXPECT_EQ(counters().kept_bytes, 80 * MiB);
+        EXPECT_TRUE(mapped(grown_at));
+    }
+    // The outermost scope returned everything.
+    EXPECT_EQ(counters().kept_bytes, 0u);
+    EXPECT_FALSE(mapped(grown_at));
+
+    // A block freed on another thread is not this thread's to keep.
+    {
+        const detail::BlockReuse scope;
+        Bytes e(4 * MiB);
+        const char* at = e.data();
+        std::thread([&] { Bytes().swap(e); }).join();
+        EXPECT_EQ(counters().kept_bytes, 0u);
+        EXPECT_FALSE(mapped(at));
     }
 }
 #endif

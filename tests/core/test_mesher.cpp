@@ -13,6 +13,7 @@
 #include "boundary/boundary.hpp"
 #include "density/size_field.hpp"
 #include "improve/smooth.hpp"
+#include "kernel/memory.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/mesher.hpp"
 #include "pipeline/agreement.hpp"
@@ -169,6 +170,21 @@ TEST(Mesher, DeterministicBitForBit) {
     EXPECT_EQ(a.mesh.y, b.mesh.y);
     ASSERT_EQ(a.mesh.triangles.size(), b.mesh.triangles.size());
     for (size_t t = 0; t < a.mesh.triangles.size(); ++t) EXPECT_EQ(a.mesh.triangles[t].v, b.mesh.triangles[t].v);
+}
+
+// The stages of one mesh hand their large blocks on (kernel/memory.hpp): the triangulation
+// and the smoothing take the interior's pages instead of fresh ones, and the mesher keeps
+// nothing once it returns; the mesh it returns is whole.
+TEST(Mesher, TheStagesReuseEachOthersLargeBlocksAndKeepNoneAfterwards) {
+    const Domain dom = build_domain(unit_square());
+    const auto before = detail::block_counters();
+    // Equilateral triangles of side h hold 2 / (sqrt(3) h^2) points a unit of area: 72,000.
+    const MeshResult r = generate_mesh(dom, density_of("0.004"));
+    const auto after = detail::block_counters();
+    expect_valid(r.mesh, "square");
+    EXPECT_GT(r.mesh.point_count(), 60000u);
+    EXPECT_GT(after.reused_bytes - before.reused_bytes, std::size_t{16} << 20);
+    EXPECT_EQ(after.kept_bytes, 0u);
 }
 
 TEST(Mesher, PaperInterpolatedDensityInside) {

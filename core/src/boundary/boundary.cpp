@@ -318,8 +318,8 @@ BoundaryTriangulation triangulate_boundary(const Discretisation& d) {
     return w;
 }
 
-std::vector<Vec2> points_of(const Discretisation& d) {
-    std::vector<Vec2> pts;
+Array<Vec2> points_of(const Discretisation& d) {
+    Array<Vec2> pts;
     pts.reserve(d.size());
     for (VertexId v = 0; v < d.size(); ++v) pts.push_back(d.point(v));
     return pts;

@@ -91,14 +91,14 @@ Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
 /// points), built once per mesh: the point estimate, the gradation samples and the
 /// interior's walks through the domain all use it.
 struct BoundaryTriangulation {
-    std::vector<Vec2> points;  ///< the discretisation's points, in its order
-    std::vector<Triangle> triangles;
+    Array<Vec2> points;  ///< the discretisation's points, in its order
+    Array<Triangle> triangles;
 };
 BoundaryTriangulation triangulate_boundary(const Discretisation& d);
 
 /// The discretisation as a triangulator's input: its points, and its segments as constraints
 /// (loop segments marked as loops).
-std::vector<Vec2> points_of(const Discretisation& d);
+Array<Vec2> points_of(const Discretisation& d);
 std::vector<Constraint> constraints_of(const Discretisation& d);
 
 /// Sets the sources of eq. 6.1 from the discretisation: every segment's start and length.

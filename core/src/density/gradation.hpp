@@ -55,7 +55,7 @@ private:
     };
     double least_cone(std::uint32_t b, std::uint32_t e, Vec2 x) const;
 
-    detail::HugeVector<double> x_, y_, h_;  // the sources in tree order (three more entries: least_cone)
+    Array<double> x_, y_, h_;  // the sources in tree order (three more entries: least_cone)
     std::vector<Node> nodes_;
     double slope_;
     double search_factor_;  // a query searches up to this times its bound

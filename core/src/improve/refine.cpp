@@ -265,7 +265,7 @@ private:
     Observer* obs_;
     size_t max_points_;
     double cos_bound_;
-    std::vector<Vec2> pts_;
+    Array<Vec2> pts_;
     std::unique_ptr<detail::TriangleSoup> soup_;
     std::vector<std::vector<std::uint32_t>> chains_;
     std::unordered_map<std::uint64_t, size_t> edge_of_;

@@ -14,6 +14,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <span>
 #include <vector>
 
 #include "kernel/memory.hpp"
@@ -106,13 +107,13 @@ public:
         for (size_t v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
         detail::assign_huge(opposite_, offset_[nv], std::array<std::uint32_t, 2>{});
         {
-            detail::HugeVector<std::uint32_t> fill(offset_.begin(), offset_.end() - 1);
+            Array<std::uint32_t> fill(offset_.begin(), offset_.end() - 1);
             for (const Triangle& t : m_.triangles)
                 for (std::uint32_t i = 0; i < 3; ++i)
                     if (m_.kind[t.v[i]] == PointKind::Interior)
                         opposite_[fill[t.v[i]]++] = {t.v[next3(i)], t.v[prev3(i)]};
         }
-        detail::HugeVector<char> active, next;
+        Array<char> active, next;
         detail::assign_huge(active, nv, char{0});
         detail::assign_huge(next, nv, char{0});
         for (size_t v = 0; v < nv; ++v) active[v] = m_.kind[v] == PointKind::Interior;
@@ -137,8 +138,8 @@ public:
         }
         // The tables go before the flips and the repair, which do not use them (a third of
         // the smoothing's memory; the pipeline's peak was in the repair).
-        detail::HugeVector<std::uint32_t>().swap(offset_);
-        detail::HugeVector<std::array<std::uint32_t, 2>>().swap(opposite_);
+        Array<std::uint32_t>().swap(offset_);
+        Array<std::array<std::uint32_t, 2>>().swap(opposite_);
         // The Delaunay property, once.
         if (moves > 0) restore_delaunay();
         return moves;
@@ -160,7 +161,7 @@ public:
     std::uint64_t repair() {
         // Made here rather than with the smoother: the sweeps' tables are gone by now.
         if (seen_.size() != m_.triangles.size()) detail::assign_huge(seen_, m_.triangles.size(), std::uint32_t{0});
-        std::vector<TriangleId> suspects(m_.triangles.size());
+        Array<TriangleId> suspects(m_.triangles.size());
         for (TriangleId t = 0; t < suspects.size(); ++t) suspects[t] = t;
         std::uint64_t total = 0;
         std::vector<std::uint32_t> moved;
@@ -193,15 +194,15 @@ private:
         if (observer_->should_stop()) throw Cancelled();
     }
 
-    static std::vector<Vec2> points_of(const Mesh& m) {
-        std::vector<Vec2> pts;
+    static Array<Vec2> points_of(const Mesh& m) {
+        Array<Vec2> pts;
         detail::reserve_filled(pts, m.point_count());
         for (std::uint32_t v = 0; v < m.point_count(); ++v) pts.push_back(m.point(v));
         return pts;
     }
 
     // One round of repair() over the given triangles; `moved` gets the corners that moved.
-    void repair_round(const std::vector<TriangleId>& suspects, std::vector<std::uint32_t>& moved) {
+    void repair_round(std::span<const TriangleId> suspects, std::vector<std::uint32_t>& moved) {
         moved.clear();
         std::vector<std::uint32_t> corners;
         std::vector<TriangleId> low;  // below kRepairAngle
@@ -574,15 +575,15 @@ private:
     Mesh& m_;
     const Domain* domain_;
     Observer* observer_;
-    std::vector<Vec2> pts_;
+    Array<Vec2> pts_;
     TriangleSoup soup_;
-    detail::HugeVector<std::uint32_t> seen_;
+    Array<std::uint32_t> seen_;
     std::uint32_t stamp_ = 0;
     std::vector<TriangleId> star_, changed_;
     size_t first_ = 0;  // where star_score starts (the triangle that last stopped it)
     std::uint32_t polls_ = 0;
-    detail::HugeVector<std::uint32_t> offset_;
-    detail::HugeVector<std::array<std::uint32_t, 2>> opposite_;
+    Array<std::uint32_t> offset_;
+    Array<std::array<std::uint32_t, 2>> opposite_;
     std::vector<std::pair<TriangleId, std::uint32_t>> queue_;
     std::uint64_t flips_ = 0;
 };

@@ -107,7 +107,7 @@ public:
         }
     }
 
-    std::vector<Vec2> run() {
+    Array<Vec2> run() {
         std::uint64_t steps = 0;
         while (!stack_.empty()) {
             if ((++steps & 1023) == 0 && obs_) {
@@ -120,10 +120,9 @@ public:
             if (!front_[s].alive) continue;
             step(s);
         }
-        std::vector<Vec2> out;
-        detail::reserve_filled(out, pts_.size() - boundary_count_);
-        out.insert(out.end(), pts_.begin() + static_cast<std::ptrdiff_t>(boundary_count_), pts_.end());
-        return out;
+        // The boundary's points moved out of the way in place (no second array's fresh pages).
+        pts_.erase(pts_.begin(), pts_.begin() + static_cast<std::ptrdiff_t>(boundary_count_));
+        return std::move(pts_);
     }
 
 private:
@@ -426,15 +425,15 @@ private:
     Box box_;
     SizeClasses classes_;
     // The constrained triangulation of the boundary, for the walks that decide "inside".
-    std::vector<Vec2> wall_points_;
-    std::vector<Triangle> wall_triangles_;
+    Array<Vec2> wall_points_;
+    Array<Triangle> wall_triangles_;
     detail::TriangleSoup walls_;
-    detail::HugeVector<Vec2> pts_;
-    detail::HugeVector<double> prho_;
-    detail::HugeVector<TriangleId> home_;
+    Array<Vec2> pts_;
+    Array<double> prho_;
+    Array<TriangleId> home_;
     size_t boundary_count_ = 0;
-    detail::HugeVector<FrontSegment> front_;
-    detail::HugeVector<std::uint32_t> stack_;
+    Array<FrontSegment> front_;
+    Array<std::uint32_t> stack_;
     size_t closings_ = 0, closings_attempted_ = 0;
     size_t report_at_ = SIZE_MAX;  // the next count the observer hears of
     std::uint64_t jumps_to_stop_ = 0, jumps_at_start_ = 0, candidates_at_start_ = 0;
@@ -446,7 +445,7 @@ private:
 
 }  // namespace
 
-std::vector<Vec2> generate_interior_points(const Domain& domain, const Discretisation& boundary,
+Array<Vec2> generate_interior_points(const Domain& domain, const Discretisation& boundary,
                                            const BoundaryTriangulation& walls, const SizeField& rho,
                                            const InteriorOptions& options, InteriorBudget budget,
                                            Observer* observer, InteriorStats* stats) {

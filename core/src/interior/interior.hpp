@@ -45,7 +45,7 @@ struct InteriorBudget {
 /// Thrown by generate_interior_points (InteriorBudget::jumps_to_stop): the size field
 /// changes faster than the front can follow. The pipeline catches it.
 struct FieldJumps {};
-std::vector<Vec2> generate_interior_points(const Domain& domain, const Discretisation& boundary,
+Array<Vec2> generate_interior_points(const Domain& domain, const Discretisation& boundary,
                                            const BoundaryTriangulation& walls, const SizeField& rho,
                                            const InteriorOptions& options = {}, InteriorBudget budget = {},
                                            Observer* observer = nullptr, InteriorStats* stats = nullptr);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <span>
 #include <vector>
 
 #include "meshd/core/vec2.hpp"
@@ -60,7 +61,7 @@ public:
 
     /// order[i]: index of the i-th point in tree order. Splits at the median of the wider
     /// side of each node's box, ties broken by index, so the layout is deterministic.
-    explicit KdLayout(const std::vector<Vec2>& pts) : order(pts.size()) {
+    explicit KdLayout(std::span<const Vec2> pts) : order(pts.size()) {
         struct Indexed {
             Vec2 p;
             std::uint32_t index;

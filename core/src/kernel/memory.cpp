@@ -1,8 +1,12 @@
 #include "kernel/memory.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
+#include <utility>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -41,29 +45,211 @@ void populate(void* p, std::size_t bytes) {
 }
 
 namespace {
+
 constexpr std::size_t kHugePage = std::size_t{2} << 20;
 constexpr std::size_t kSmall = std::size_t{1} << 20;
+
+std::size_t whole_huge_pages(std::size_t bytes) { return (bytes + kHugePage - 1) & ~(kHugePage - 1); }
+
 }  // namespace
+
+#if defined(__linux__) && defined(MREMAP_FIXED)
+#define MESHD_BLOCK_REUSE 1
+
+namespace {
+
+struct Block {
+    char* at;
+    std::size_t size;  // whole huge pages
+};
+
+// A thread's kept blocks and its large blocks' balance within its outermost BlockReuse.
+struct Reuse {
+    int depth = 0;
+    std::array<Block, 16> kept{};
+    std::size_t count = 0;
+    std::ptrdiff_t live = 0;  // large blocks allocated less those freed since the scope began
+    std::ptrdiff_t most = 0;  // the most `live` has been since then
+    BlockCounters counters;
+};
+thread_local Reuse reuse;
+
+// `size` bytes (whole huge pages) at a 2 MiB boundary: a huge page more mapped, the ends cut.
+char* map_aligned(std::size_t size, int prot, int flags) {
+    const std::size_t span = size + kHugePage;
+    void* raw = mmap(nullptr, span, prot, MAP_PRIVATE | MAP_ANONYMOUS | flags, -1, 0);
+    if (raw == MAP_FAILED) return nullptr;
+    const auto from = reinterpret_cast<std::uintptr_t>(raw);
+    const std::uintptr_t at = (from + kHugePage - 1) & ~(kHugePage - 1);
+    if (at > from) munmap(raw, at - from);
+    if (from + span > at + size) munmap(reinterpret_cast<void*>(at + size), from + span - (at + size));
+    return reinterpret_cast<char*>(at);
+}
+
+char* map_fresh(std::size_t size) {
+    char* at = map_aligned(size, PROT_READ | PROT_WRITE, 0);
+    if (at == nullptr) throw std::bad_alloc();
+#if defined(MADV_HUGEPAGE)
+    (void)madvise(at, size, MADV_HUGEPAGE);
+#endif
+    reuse.counters.mapped_bytes += size;
+    return at;
+}
+
+// Block b grown to `size`: moved with its pages to a new place at a 2 MiB boundary, its new
+// part fresh. Null (b untouched) where the kernel refuses.
+char* grow(Block b, std::size_t size) {
+    char* at = map_aligned(size, PROT_NONE, MAP_NORESERVE);
+    if (at == nullptr) return nullptr;
+    if (mremap(b.at, b.size, size, MREMAP_MAYMOVE | MREMAP_FIXED, at) == MAP_FAILED) {
+        munmap(at, size);
+        return nullptr;
+    }
+#if defined(MADV_HUGEPAGE)
+    (void)madvise(at, size, MADV_HUGEPAGE);
+#endif
+    return at;
+}
+
+Block take_kept(std::size_t i) {
+    const Block b = reuse.kept[i];
+    reuse.kept[i] = reuse.kept[--reuse.count];
+    reuse.counters.kept_bytes -= b.size;
+    return b;
+}
+
+std::size_t smallest_kept() {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < reuse.count; ++i)
+        if (reuse.kept[i].size < reuse.kept[best].size) best = i;
+    return best;
+}
+
+// Kept blocks returned, the smallest first (the last one only cut), until the large blocks
+// live and kept are no more than the most that were live at once.
+void trim_kept() {
+    for (;;) {
+        const std::ptrdiff_t excess =
+            reuse.live + static_cast<std::ptrdiff_t>(reuse.counters.kept_bytes) - reuse.most;
+        if (excess <= 0 || reuse.count == 0) return;
+        const auto cut = static_cast<std::size_t>(excess);  // whole huge pages, as every size here
+        Block& b = reuse.kept[smallest_kept()];
+        if (b.size <= cut) {
+            const std::size_t i = static_cast<std::size_t>(&b - reuse.kept.data());
+            const Block gone = take_kept(i);
+            munmap(gone.at, gone.size);
+        } else {
+            munmap(b.at + (b.size - cut), cut);
+            b.size -= cut;
+            reuse.counters.kept_bytes -= cut;
+        }
+    }
+}
+
+void* allocate_large(std::size_t size) {
+    char* at = nullptr;
+    if (reuse.depth > 0 && reuse.count > 0) {
+        // The kept block nearest above the size, else the largest.
+        std::size_t fit = reuse.count, largest = 0;
+        for (std::size_t i = 0; i < reuse.count; ++i) {
+            const std::size_t s = reuse.kept[i].size;
+            if (s >= size && (fit == reuse.count || s < reuse.kept[fit].size)) fit = i;
+            if (s > reuse.kept[largest].size) largest = i;
+        }
+        const std::size_t pick = fit < reuse.count ? fit : largest;
+        const Block b = take_kept(pick);
+        if (b.size >= size) {
+            if (b.size > size) munmap(b.at + size, b.size - size);
+            at = b.at;
+            reuse.counters.reused_bytes += size;
+        } else if ((at = grow(b, size)) != nullptr) {
+            reuse.counters.reused_bytes += b.size;
+            reuse.counters.mapped_bytes += size - b.size;
+        } else {
+            munmap(b.at, b.size);
+        }
+    }
+    if (at == nullptr) at = map_fresh(size);
+    if (reuse.depth > 0) {
+        reuse.live += static_cast<std::ptrdiff_t>(size);
+        reuse.most = std::max(reuse.most, reuse.live);
+        trim_kept();
+    }
+    return at;
+}
+
+void release_large(void* p, std::size_t size) noexcept {
+    if (reuse.depth == 0) {
+        munmap(p, size);
+        return;
+    }
+    reuse.live -= static_cast<std::ptrdiff_t>(size);
+    Block b{static_cast<char*>(p), size};
+    if (reuse.count == reuse.kept.size()) {  // full: the smaller of it and the smallest kept goes
+        const std::size_t i = smallest_kept();
+        if (reuse.kept[i].size < size) std::swap(b, reuse.kept[i]);
+        reuse.counters.kept_bytes += size - b.size;
+        munmap(b.at, b.size);
+        return;
+    }
+    reuse.kept[reuse.count++] = b;
+    reuse.counters.kept_bytes += size;
+}
+
+}  // namespace
+
+BlockReuse::BlockReuse() : outermost_(reuse.depth++ == 0) {
+    if (outermost_) reuse.live = reuse.most = 0;
+}
+
+BlockReuse::~BlockReuse() {
+    --reuse.depth;
+    if (!outermost_) return;
+    while (reuse.count > 0) {
+        const Block b = take_kept(reuse.count - 1);
+        munmap(b.at, b.size);
+    }
+    reuse.live = reuse.most = 0;
+}
+
+BlockCounters block_counters() { return reuse.counters; }
+
+#else
+
+BlockReuse::BlockReuse() : outermost_(false) {}
+BlockReuse::~BlockReuse() = default;
+BlockCounters block_counters() { return {}; }
+
+#endif
 
 void* allocate_huge(std::size_t bytes, std::size_t align) {
     if (bytes < kSmall)
         return align > __STDCPP_DEFAULT_NEW_ALIGNMENT__ ? ::operator new(bytes, std::align_val_t{align})
                                                         : ::operator new(bytes);
     if (bytes > SIZE_MAX - kHugePage) throw std::bad_alloc();
-    const std::size_t size = (bytes + kHugePage - 1) & ~(kHugePage - 1);
+    const std::size_t size = whole_huge_pages(bytes);
+#if MESHD_BLOCK_REUSE
+    return allocate_large(size);
+#else
     void* p = std::aligned_alloc(kHugePage, size);
     if (p == nullptr) throw std::bad_alloc();
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    (void)madvise(p, size, MADV_HUGEPAGE);
-#endif
     return p;
+#endif
 }
 
 void deallocate_huge(void* p, std::size_t bytes, std::size_t align) noexcept {
     if (p == nullptr) return;
-    if (bytes >= kSmall) std::free(p);
-    else if (align > __STDCPP_DEFAULT_NEW_ALIGNMENT__) ::operator delete(p, std::align_val_t{align});
-    else ::operator delete(p);
+    if (bytes >= kSmall) {
+#if MESHD_BLOCK_REUSE
+        release_large(p, whole_huge_pages(bytes));
+#else
+        std::free(p);
+#endif
+    } else if (align > __STDCPP_DEFAULT_NEW_ALIGNMENT__) {
+        ::operator delete(p, std::align_val_t{align});
+    } else {
+        ::operator delete(p);
+    }
 }
 
 }  // namespace meshd::core::detail

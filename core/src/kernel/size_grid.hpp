@@ -211,20 +211,20 @@ private:
         return slots_[s].block;
     }
     void rehash(size_t n) {
-        HugeVector<Slot> old = std::move(slots_);
+        Array<Slot> old = std::move(slots_);
         slots_.assign(n, Slot{0, kNone});
         shift_ = 64 - std::countr_zero(n);
         for (const Slot& o : old)
             if (o.block != kNone) slots_[slot_of(o.key)] = o;
     }
 
-    HugeVector<Slot> slots_;
+    Array<Slot> slots_;
     int shift_ = 64;
     std::uint64_t classes_ = 0;  // bit k: the grid holds an item of class k (a query of any
                                  // other class ends before its first hash probe)
-    HugeVector<Block> blocks_;
-    HugeVector<Masks> masks_;  // by block
-    HugeVector<Entry> entries_;
+    Array<Block> blocks_;
+    Array<Masks> masks_;  // by block
+    Array<Entry> entries_;
 };
 
 using CellMap = CellGrid<std::uint32_t>;

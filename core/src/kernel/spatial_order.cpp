@@ -62,8 +62,8 @@ private:
 
 // Sorts (key << 32 | index) on the key's low `bits` bits (stable LSD radix passes; the
 // index bits are in order already) and returns the indices.
-HugeVector<std::uint32_t> sort_keys(HugeVector<std::uint64_t>& keys, int bits) {
-    HugeVector<std::uint64_t> tmp;
+Array<std::uint32_t> sort_keys(Array<std::uint64_t>& keys, int bits) {
+    Array<std::uint64_t> tmp;
     assign_huge(tmp, keys.size(), std::uint64_t{0});
     std::array<size_t, 129> count{};
     for (int shift = 32; shift < 32 + bits; shift += 7) {
@@ -73,7 +73,7 @@ HugeVector<std::uint32_t> sort_keys(HugeVector<std::uint64_t>& keys, int bits) {
         for (const std::uint64_t k : keys) tmp[count[(k >> shift) & 127u]++] = k;
         keys.swap(tmp);
     }
-    HugeVector<std::uint32_t> order;
+    Array<std::uint32_t> order;
     assign_huge(order, keys.size(), std::uint32_t{0});
     for (size_t i = 0; i < keys.size(); ++i) order[i] = static_cast<std::uint32_t>(keys[i]);
     return order;
@@ -81,13 +81,13 @@ HugeVector<std::uint32_t> sort_keys(HugeVector<std::uint64_t>& keys, int bits) {
 
 // (Hilbert index << 32 | i) for every point, plus `round(i) << 56`.
 template <class Round>
-HugeVector<std::uint64_t> hilbert_keys(std::span<const Vec2> pts, Round round) {
+Array<std::uint64_t> hilbert_keys(std::span<const Vec2> pts, Round round) {
     static const HilbertTable hilbert;
     Box box;
     for (const Vec2& p : pts) box.add(p);
     const double w = std::fmax(box.hi.x - box.lo.x, box.hi.y - box.lo.y);
     const double scale = w > 0.0 ? 4095.0 / w : 0.0;
-    HugeVector<std::uint64_t> keys;
+    Array<std::uint64_t> keys;
     assign_huge(keys, pts.size(), std::uint64_t{0});
     for (size_t i = 0; i < pts.size(); ++i) {
         const auto hx = static_cast<std::uint32_t>((pts[i].x - box.lo.x) * scale);
@@ -101,15 +101,15 @@ HugeVector<std::uint64_t> hilbert_keys(std::span<const Vec2> pts, Round round) {
 
 }  // namespace
 
-HugeVector<std::uint32_t> hilbert_order(std::span<const Vec2> pts) {
-    HugeVector<std::uint64_t> keys = hilbert_keys(pts, [](size_t) { return 0u; });
+Array<std::uint32_t> hilbert_order(std::span<const Vec2> pts) {
+    Array<std::uint64_t> keys = hilbert_keys(pts, [](size_t) { return 0u; });
     return sort_keys(keys, 24);
 }
 
-HugeVector<std::uint32_t> brio_order(const std::vector<Vec2>& pts) {
+Array<std::uint32_t> brio_order(std::span<const Vec2> pts) {
     std::uint32_t last = 0;  // index of the last round
     for (size_t m = pts.size(); m > 8 * 64 && last < 15; m /= 8) ++last;
-    HugeVector<std::uint64_t> keys = hilbert_keys(pts, [last](size_t i) {
+    Array<std::uint64_t> keys = hilbert_keys(pts, [last](size_t i) {
         // A 64-bit mix of the index (splitmix64's finaliser); three bits per round.
         std::uint64_t h = (i + 1) * 0x9E3779B97F4A7C15ull;
         h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;

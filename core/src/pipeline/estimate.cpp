@@ -40,7 +40,7 @@ namespace {
 template <class F>
 void for_each_sample(const BoundaryTriangulation& walls, const SizeField& rho, Observer* observer,
                      double max_visits, F&& f) {
-    const std::vector<Vec2>& pts = walls.points;
+    const Array<Vec2>& pts = walls.points;
     std::uint64_t visited = 0;
     // rho at a corner; where it cannot be had (between a curve and its flattening), the
     // corner gives no reason to split.
@@ -138,8 +138,8 @@ void set_gradation_sources(SizeField& rho, const Discretisation& d, const Bounda
     // a field that would exceed the limit is refused before the sampling does.
     // On pages of 2 MiB: a far field's samples run to millions (2.8 million on the NACA 0006
     // case), and growing them on 4 KiB pages was 12% of that run, much of it page faults.
-    detail::HugeVector<Vec2> pts(walls.points.begin(), walls.points.end());
-    detail::HugeVector<double> sizes(d.rho.begin(), d.rho.end());
+    Array<Vec2> pts(walls.points.begin(), walls.points.end());
+    Array<double> sizes(d.rho.begin(), d.rho.end());
     double total = static_cast<double>(d.size());
     const double limit = static_cast<double>(max_points);
     // The samples run to 20 a mesh point where the boundary's triangulation has slivers (2.8

@@ -61,7 +61,7 @@ double ms_since(Clock::time_point t0) {
 // points (with boundary layers: the layers' outer edge after the original's points), `edges`
 // the boundary's own segments and curves.
 void assemble(Mesh& m, const Domain& domain, const Discretisation& d, const Discretisation& edges,
-              std::span<const Vec2> inner, std::vector<Triangle> triangles) {
+              std::span<const Vec2> inner, Array<Triangle> triangles) {
     const size_t n = d.size() + inner.size();
     detail::reserve_filled(m.x, n);
     detail::reserve_filled(m.y, n);
@@ -249,6 +249,8 @@ bool cap_closing_triangles(const Mesh& m, SizeCaps& closing) {
 
 MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const MeshOptions& asked,
                          Observer* observer) {
+    // The stages' large arrays, once freed, serve the next stage's (kernel/memory.hpp).
+    const detail::BlockReuse reuse;
     MeshOptions options = asked;
     if (options.max_points == 0 || options.max_points > kMaxPointsLimit) options.max_points = kMaxPointsLimit;
     MeshResult r;
@@ -385,7 +387,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
                                                           ? static_cast<size_t>(forecast)
                                                           : 0};
             if (may_grade && !graded.gradation) budget.jumps_to_stop = kJumpsToGrade;
-            std::vector<Vec2> inner;
+            Array<Vec2> inner;
             try {
                 inner = generate_interior_points(domain, fixed, walls, rho, options.interior, budget, observer,
                                                  &r.stats.interior);
@@ -396,7 +398,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             }
             // Along a Hilbert curve: neighbours in the mesh become neighbours in memory, which
             // the triangle order (order_by_largest_corner) and every later sweep profit from.
-            detail::HugeVector<std::uint32_t> order = detail::hilbert_order(inner);
+            Array<std::uint32_t> order = detail::hilbert_order(inner);
             r.timings.interior_ms += ms_since(t0);
 
             // Triangulation: the fixed points, then the interior points in that order (copied
@@ -404,12 +406,12 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             begin(Stage::Triangulation);
             t0 = Clock::now();
             {
-                std::vector<Vec2> pts = std::move(walls.points);
+                Array<Vec2> pts = std::move(walls.points);
                 const size_t fixed_count = pts.size();
                 detail::reserve_filled(pts, fixed_count + inner.size());
                 for (const std::uint32_t i : order) pts.push_back(inner[i]);
-                std::vector<Vec2>().swap(inner);
-                detail::HugeVector<std::uint32_t>().swap(order);
+                Array<Vec2>().swap(inner);
+                Array<std::uint32_t>().swap(order);
                 const std::vector<Constraint> cons = constraints_of(fixed);
                 TriangulationResult tr = options.triangulator == Triangulator::Delaunay
                                              ? triangulate_delaunay(pts, cons, observer)
@@ -497,10 +499,14 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             r.quality.scaled_jacobian_min = std::min(r.quality.scaled_jacobian_min, min_scaled_jacobian(m, t));
     m.target_size.resize(m.point_count());
     {
-        std::vector<Vec2> at;
-        detail::reserve_filled(at, m.point_count());
-        for (VertexId v = 0; v < m.point_count(); ++v) at.push_back(m.point(v));
-        rho.interior(at.data(), at.size(), m.target_size.data());
+        // In batches: a copy of every point would be fresh pages as large as the points.
+        constexpr size_t kBatch = 1024;
+        std::array<Vec2, kBatch> at;
+        for (size_t v0 = 0; v0 < m.point_count(); v0 += kBatch) {
+            const size_t n = std::min(kBatch, m.point_count() - v0);
+            for (size_t i = 0; i < n; ++i) at[i] = m.point(static_cast<VertexId>(v0 + i));
+            rho.interior(at.data(), n, m.target_size.data() + v0);
+        }
     }
     r.timings.total_ms = ms_since(t_start);
     const PredicateCounters pc = predicate_counters();

@@ -38,7 +38,7 @@ using detail::SizeClasses;
 // Disk queries over the static tree of kdtree.hpp.
 class PointTree {
 public:
-    explicit PointTree(const std::vector<Vec2>& pts) : pts_(pts), tree_(pts) {}
+    explicit PointTree(std::span<const Vec2> pts) : pts_(pts), tree_(pts) {}
 
     template <class F>
     void query(Vec2 c, double r, F&& visit) const {
@@ -55,14 +55,14 @@ public:
     }
 
 private:
-    const std::vector<Vec2>& pts_;
+    std::span<const Vec2> pts_;
     detail::KdLayout tree_;
 };
 
 
 class DelaunayFront {
 public:
-    DelaunayFront(const std::vector<Vec2>& pts, const std::vector<Constraint>& cons, Observer* obs)
+    DelaunayFront(std::span<const Vec2> pts, const std::vector<Constraint>& cons, Observer* obs)
         : pts_(pts), cons_(cons), obs_(obs), tree_(pts), front_degree_(pts.size(), 0), touched_(pts.size(), 0) {
         Box box;
         for (const Vec2& p : pts) box.add(p);
@@ -279,7 +279,7 @@ private:
         return r;
     }
 
-    const std::vector<Vec2>& pts_;
+    std::span<const Vec2> pts_;
     const std::vector<Constraint>& cons_;
     Observer* obs_;
     PointTree tree_;
@@ -293,13 +293,13 @@ private:
     CellMap grid_;
     std::array<std::vector<std::uint32_t>, SizeClasses::kMax + 1> class_edges_;  // live and some dead
     std::array<size_t, SizeClasses::kMax + 1> class_alive_{};
-    std::vector<Triangle> tris_;
+    Array<Triangle> tris_;
     std::vector<std::uint32_t> cand_;
 };
 
 }  // namespace
 
-TriangulationResult triangulate_advancing_front(const std::vector<Vec2>& points,
+TriangulationResult triangulate_advancing_front(std::span<const Vec2> points,
                                                 const std::vector<Constraint>& constraints, Observer* observer) {
     DelaunayFront front(points, constraints, observer);
     return front.run();

@@ -40,7 +40,7 @@ public:
     // The points are stored in insertion order (BRIO), so that vertices inserted one after
     // the other, which are near each other, are also near in memory; their input indices
     // stay their perturbation ranks, so the result does not depend on this renumbering.
-    IncrementalCdt(const std::vector<Vec2>& input, Observer* obs) : n_(input.size()), obs_(obs) {
+    IncrementalCdt(std::span<const Vec2> input, Observer* obs) : n_(input.size()), obs_(obs) {
         rank_ = detail::brio_order(input);
         detail::assign_huge(inverse_, n_, std::uint32_t{0});
         detail::reserve_filled(pts_, n_ + 3);
@@ -88,7 +88,7 @@ public:
         // Flood fill of what goes: from the enclosing triangle's corner and from the outer
         // side of every loop segment, never across a loop segment. This region (the outside
         // and the holes) is usually much smaller than the domain.
-        detail::HugeVector<char> gone;
+        Array<char> gone;
         detail::assign_huge(gone, tris_.size(), char{0});
         std::vector<TriangleId> stack;
         auto seed = [&](TriangleId t) {
@@ -308,12 +308,12 @@ private:
 
     size_t n_;
     Observer* obs_;
-    std::vector<Vec2> pts_;
-    std::vector<Triangle> tris_;
+    Array<Vec2> pts_;
+    Array<Triangle> tris_;
     std::unique_ptr<detail::TriangleSoup> soup_;
-    detail::HugeVector<std::uint32_t> rank_;     // internal index -> input index (and perturbation rank)
-    detail::HugeVector<std::uint32_t> inverse_;  // input index -> internal index
-    detail::HugeVector<std::uint32_t> alias_;    // internal index -> the internal index it coincides with
+    Array<std::uint32_t> rank_;     // internal index -> input index (and perturbation rank)
+    Array<std::uint32_t> inverse_;  // input index -> internal index
+    Array<std::uint32_t> alias_;    // internal index -> the internal index it coincides with
     std::vector<std::pair<std::uint32_t, std::uint32_t>> loop_edges_;
     std::vector<std::pair<TriangleId, std::uint32_t>> queue_;
     TriangulationStats stats_;
@@ -321,7 +321,7 @@ private:
 
 }  // namespace
 
-TriangulationResult triangulate_delaunay(const std::vector<Vec2>& points,
+TriangulationResult triangulate_delaunay(std::span<const Vec2> points,
                                          const std::vector<Constraint>& constraints, Observer* observer) {
     IncrementalCdt b(points, observer);
     b.insert_all();

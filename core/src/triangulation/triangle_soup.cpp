@@ -263,23 +263,23 @@ void TriangleSoup::split_edge(TriangleId t, std::uint32_t i, std::uint32_t p, st
 }
 
 
-void order_by_largest_corner(std::vector<Triangle>& tris, size_t point_count, const char* gone) {
+void order_by_largest_corner(Array<Triangle>& tris, size_t point_count, const char* gone) {
     auto corner = [](const Triangle& t) { return std::max({t.v[0], t.v[1], t.v[2]}); };
     auto kept = [&](TriangleId t) { return gone == nullptr || !gone[t]; };
     if (gone == nullptr &&
         std::is_sorted(tris.begin(), tris.end(), [&](const Triangle& a, const Triangle& b) { return corner(a) < corner(b); }))
         return;  // the Delaunay triangulator's output is
     // A counting sort, into storage on huge pages.
-    HugeVector<std::uint32_t> start;
+    Array<std::uint32_t> start;
     assign_huge(start, point_count + 1, std::uint32_t{0});
     for (TriangleId t = 0; t < tris.size(); ++t)
         if (kept(t)) ++start[corner(tris[t]) + 1];
     for (size_t v = 0; v < point_count; ++v) start[v + 1] += start[v];
-    HugeVector<TriangleId> remap;
+    Array<TriangleId> remap;
     assign_huge(remap, tris.size(), kNoTriangle);
     for (TriangleId t = 0; t < tris.size(); ++t)
         if (kept(t)) remap[t] = start[corner(tris[t])]++;
-    std::vector<Triangle> out;
+    Array<Triangle> out;
     assign_huge(out, static_cast<size_t>(start[point_count]), Triangle{});
     for (TriangleId t = 0; t < tris.size(); ++t) {
         if (!kept(t)) continue;

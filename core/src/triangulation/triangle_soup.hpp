@@ -30,14 +30,14 @@ class TriangleSoup {
 public:
     /// `rank`, when given, is the symbolic-perturbation rank of every vertex (default: the
     /// vertex index itself).
-    TriangleSoup(const std::vector<Vec2>& points, std::vector<Triangle>& tris, bool track_vertices,
+    TriangleSoup(const Array<Vec2>& points, Array<Triangle>& tris, bool track_vertices,
                  const std::uint32_t* rank = nullptr)
         : pts_(points), t_(tris), track_(track_vertices), rank_(rank) {
         if (track_) rebuild_vertex_index();
     }
 
     const Vec2& p(std::uint32_t v) const { return pts_[v]; }
-    std::vector<Triangle>& tris() { return t_; }
+    Array<Triangle>& tris() { return t_; }
 
     /// Index of vertex v in triangle t (which must contain it).
     static std::uint32_t index_of(const Triangle& t, std::uint32_t v) {
@@ -137,17 +137,17 @@ private:
     TriangleId new_triangle();
     void relink(TriangleId nb, TriangleId old_t, TriangleId new_t);
 
-    const std::vector<Vec2>& pts_;
-    std::vector<Triangle>& t_;
+    const Array<Vec2>& pts_;
+    Array<Triangle>& t_;
     bool track_;
     const std::uint32_t* rank_;  // by vertex, or null
-    std::vector<TriangleId> vtri_;
+    Array<TriangleId> vtri_;
 };
 
 /// Puts triangles in the order of their largest corner index (neighbours renumbered): with
 /// points in a spatial order, the triangles around a point then lie near each other in memory.
 /// With `gone` (a flag per triangle), the flagged ones are dropped as well, and links to them
 /// become kNoTriangle; their corners need not be below point_count.
-void order_by_largest_corner(std::vector<Triangle>& tris, size_t point_count, const char* gone = nullptr);
+void order_by_largest_corner(Array<Triangle>& tris, size_t point_count, const char* gone = nullptr);
 
 }  // namespace meshd::core::detail

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <vector>
+#include <span>
 
 #include "meshd/core/mesh.hpp"
 #include "meshd/core/mesher.hpp"
@@ -29,13 +30,13 @@ struct Constraint {
 /// constraint is an edge of the result (a constraint through another input point is split
 /// there). Throws InternalError on a broken invariant. O(n log n) expected.
 struct TriangulationResult {
-    std::vector<Triangle> triangles;
+    Array<Triangle> triangles;
     /// Points of the input that coincide with an earlier point are merged into it:
     /// alias[i] = i for every kept point.
-    std::vector<std::uint32_t> alias;
+    Array<std::uint32_t> alias;
     TriangulationStats stats;
 };
-TriangulationResult triangulate_delaunay(const std::vector<Vec2>& points,
+TriangulationResult triangulate_delaunay(std::span<const Vec2> points,
                                          const std::vector<Constraint>& constraints,
                                          Observer* observer = nullptr);
 
@@ -43,7 +44,7 @@ TriangulationResult triangulate_delaunay(const std::vector<Vec2>& points,
 /// the last front edge AB, the visible point C on its left whose circle through A, B, C
 /// holds no other visible candidate forms ABC; the candidate search is local (a grid) and
 /// widens until a point is found. Gives the same triangles as triangulate_delaunay().
-TriangulationResult triangulate_advancing_front(const std::vector<Vec2>& points,
+TriangulationResult triangulate_advancing_front(std::span<const Vec2> points,
                                                 const std::vector<Constraint>& constraints,
                                                 Observer* observer = nullptr);
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "meshd/core/array.hpp"
 #include "meshd/core/domain.hpp"
 
 namespace meshd::core {
@@ -57,17 +58,18 @@ struct MeshEdge {
 };
 
 struct Mesh {
-    std::vector<double> x, y;
-    std::vector<PointKind> kind;
+    // The arrays that grow with the mesh are Arrays (array.hpp): std::vectors on huge pages.
+    Array<double> x, y;
+    Array<PointKind> kind;
     /// The curve a Boundary or Embedded point lies on and its parameter there (the curve's
     /// own t); kNoCurve and 0 for corners and interior points.
-    std::vector<CurveId> curve;
-    std::vector<double> param;
+    Array<CurveId> curve;
+    Array<double> param;
     /// Counter-clockwise, with neighbours (kNoTriangle across loop edges and edges shared
     /// with a quad) and constraint bits. The boundary layers' triangles (fans at sharp
     /// corners, steps where the layer count changes, or every layer cell when quads are
     /// split) come after the others, marked `layer`.
-    std::vector<Triangle> triangles;
+    Array<Triangle> triangles;
     /// The boundary layers' quadrilaterals, counter-clockwise, strictly convex.
     std::vector<std::array<VertexId, 4>> quads;
     /// Loop edges in loop order, then embedded edges.
@@ -85,7 +87,7 @@ struct Mesh {
     };
     std::vector<std::vector<LoopCurve>> loops;
     /// rho at each point (the interior density), for writers that carry the target size.
-    std::vector<double> target_size;
+    Array<double> target_size;
     /// Second order (MeshOptions::order 2): one node on each edge, numbered after the
     /// vertices (edge node k is point point_count() + k in the files). On a curve's edge it
     /// lies on the curve (at the parameter halfway between the ends'), elsewhere halfway
