@@ -555,6 +555,42 @@ TEST(Mesher, TheObserverHearsOfAMeshOutgrowingItsForecast) {
     }
 }
 
+// The interior stage's reports (above) carry a gradation's sources too: they stay with the
+// field to the end of the run, beside the points' own peak, and the gradation reported them
+// with the forecast's peak (96 bytes a source, from 2^16 sources). So every report of the
+// interior is the points' peak plus the same bytes as the gradation's last report beyond the
+// forecast's peak. The case: a strip of 0.0005 along a wall graded at 1.5, whose gradation
+// forecast cannot see.
+TEST(Mesher, TheInteriorsReportsCarryTheGradationsSources) {
+    const Domain dom = build_domain(unit_square());
+    DensitySpec d;
+    d.size = std::string("x < 0.01 ? 0.0005 : 0.2");
+    d.gradation = 1.5;
+    struct Forecasts : Observer {
+        std::vector<std::pair<double, size_t>> heard;
+        void on_forecast(double points, size_t bytes) override { heard.emplace_back(points, bytes); }
+    } obs;
+    MeshOptions o;
+    o.curve_agreement = false;
+    const MeshResult r = generate_mesh(dom, d, o, &obs);
+    ASSERT_GE(obs.heard.size(), 3u);
+    const double forecast = obs.heard[0].first;
+    size_t sources_bytes = 0, interior_reports = 0;
+    for (size_t k = 1; k < obs.heard.size(); ++k) {
+        const auto [points, bytes] = obs.heard[k];
+        if (points == forecast) {  // the gradation's
+            ASSERT_EQ(interior_reports, 0u);
+            sources_bytes = bytes - peak_bytes_for(forecast);
+        } else {
+            ++interior_reports;
+            EXPECT_EQ(bytes, peak_bytes_for(points) + sources_bytes) << points;
+        }
+    }
+    EXPECT_GE(sources_bytes, 96u << 16) << "not the case this test is for";
+    EXPECT_GE(interior_reports, 1u) << "not the case this test is for";
+    EXPECT_GT(static_cast<double>(r.mesh.point_count()), 2.0 * forecast);
+}
+
 // A size field that jumps faster than one element can follow (a strip of 0.001 along a wall,
 // 0.2 beyond; a refinement box tenfold finer across a line) left triangles below 30 degrees
 // that no smoothing lifts (27.3 and 30.1 here, after a closing round). Where the request gives

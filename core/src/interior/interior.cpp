@@ -94,6 +94,7 @@ public:
         points_.reserve(n);
         segments_.reserve(2 * n + n / 4);
         jumps_to_stop_ = budget.jumps_to_stop;
+        extra_bytes_ = budget.extra_bytes;
         candidates_at_start_ = stats_.candidates;
         jumps_at_start_ = stats_.jumps;
         // No forecast (0): nothing to report against.
@@ -140,7 +141,9 @@ private:
             // Past twice what was forecast, and at each doubling after: the memory reserved
             // for the forecast no longer covers the run (Observer::on_forecast).
             report_at_ *= 2;
-            if (obs_) obs_->on_forecast(static_cast<double>(pts_.size()), peak_bytes_for(static_cast<double>(pts_.size())));
+            if (obs_)
+                obs_->on_forecast(static_cast<double>(pts_.size()),
+                                  peak_bytes_for(static_cast<double>(pts_.size())) + extra_bytes_);
         }
     }
 
@@ -436,6 +439,7 @@ private:
     Array<std::uint32_t> stack_;
     size_t closings_ = 0, closings_attempted_ = 0;
     size_t report_at_ = SIZE_MAX;  // the next count the observer hears of
+    size_t extra_bytes_ = 0;       // InteriorBudget::extra_bytes
     std::uint64_t jumps_to_stop_ = 0, jumps_at_start_ = 0, candidates_at_start_ = 0;
     CellGrid<GridPoint> points_;
     std::array<double, SizeClasses::kMax + 1> largest_rho_{};  // of the points in each class

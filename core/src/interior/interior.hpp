@@ -41,6 +41,9 @@ struct InteriorBudget {
     /// Throw FieldJumps once this many candidates (and one more per 1,024 candidates made)
     /// have a size more than kFieldJump times off both ends of their segment; 0: never.
     std::uint64_t jumps_to_stop = 0;
+    /// Memory the run holds besides what its points take (a gradation's sources): added to
+    /// what the observer hears.
+    size_t extra_bytes = 0;
 };
 /// Thrown by generate_interior_points (InteriorBudget::jumps_to_stop): the size field
 /// changes faster than the front can follow. The pipeline catches it.

@@ -131,8 +131,8 @@ constexpr size_t kGradationBytesPerSource = 96;
 constexpr size_t kFirstSourcesReport = size_t{1} << 16;
 }  // namespace
 
-void set_gradation_sources(SizeField& rho, const Discretisation& d, const BoundaryTriangulation& walls,
-                           size_t max_points, Observer* observer, double forecast_points) {
+size_t set_gradation_sources(SizeField& rho, const Discretisation& d, const BoundaryTriangulation& walls,
+                             size_t max_points, Observer* observer, double forecast_points) {
     // The boundary points with their curve densities, then the interior at its own size. The
     // samples are as many as the mesh would have points, about: the estimate runs along, and
     // a field that would exceed the limit is refused before the sampling does.
@@ -163,6 +163,7 @@ void set_gradation_sources(SizeField& rho, const Discretisation& d, const Bounda
     if (total > limit) refuse_too_many(total, max_points);
     if (pts.size() >= kFirstSourcesReport) report();
     rho.set_gradation_sources(pts, sizes);
+    return kGradationBytesPerSource * pts.size();
 }
 
 }  // namespace meshd::core

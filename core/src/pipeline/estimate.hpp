@@ -57,7 +57,8 @@ double estimate_point_count(const Discretisation& boundary, const BoundaryTriang
 /// The samples' memory stays with the field to the end of the run, beside the peak that
 /// `forecast_points` makes (peak_bytes_for): the observer hears the two together as the
 /// samples grow (Observer::on_forecast), from 2^16 samples and at each doubling after.
-void set_gradation_sources(SizeField& rho, const Discretisation& boundary, const BoundaryTriangulation& walls,
-                           size_t max_points, Observer* observer = nullptr, double forecast_points = 0.0);
+/// Returns the bytes the samples take (for the interior stage's reports: InteriorBudget).
+size_t set_gradation_sources(SizeField& rho, const Discretisation& boundary, const BoundaryTriangulation& walls,
+                             size_t max_points, Observer* observer = nullptr, double forecast_points = 0.0);
 
 }  // namespace meshd::core

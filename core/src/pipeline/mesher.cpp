@@ -297,10 +297,11 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         Discretisation d = discretise_boundary(domain, rho, bopt, observer);
         if (rho.interpolates()) set_interpolation_sources(rho, d);
         BoundaryTriangulation walls = triangulate_boundary(d);
+        size_t gradation_bytes = 0;  // the gradation's sources, held beside the points' peak
         if (rho.gradation()) {
             // Limit the growth of the field sampled from the first boundary, then place the
             // boundary points again along the limited field (and interpolate from those).
-            set_gradation_sources(rho, d, walls, options.max_points, observer, r.stats.forecast_points);
+            gradation_bytes = set_gradation_sources(rho, d, walls, options.max_points, observer, r.stats.forecast_points);
             d = discretise_boundary(domain, rho, bopt, observer);
             if (rho.interpolates()) set_interpolation_sources(rho, d);
             walls = triangulate_boundary(d);
@@ -387,6 +388,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
                                                           ? static_cast<size_t>(forecast)
                                                           : 0};
             if (may_grade && !graded.gradation) budget.jumps_to_stop = kJumpsToGrade;
+            budget.extra_bytes = gradation_bytes;
             Array<Vec2> inner;
             try {
                 inner = generate_interior_points(domain, fixed, walls, rho, options.interior, budget, observer,

@@ -35,6 +35,7 @@ public:
     /// Called again too, with the same points and more memory, as a gradation gathers its
     /// sources (from 2^16 on, at each doubling): they stay with the size field to the end of
     /// the run, and where the boundary's triangulation has slivers they outnumber the points.
+    /// The interior stage's reports after them count them too.
     virtual void on_forecast(double points, std::size_t peak_bytes) { (void)points; (void)peak_bytes; }
 };
 
