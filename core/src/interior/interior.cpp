@@ -450,9 +450,9 @@ private:
 }  // namespace
 
 Array<Vec2> generate_interior_points(const Domain& domain, const Discretisation& boundary,
-                                           const BoundaryTriangulation& walls, const SizeField& rho,
-                                           const InteriorOptions& options, InteriorBudget budget,
-                                           Observer* observer, InteriorStats* stats) {
+                                     const BoundaryTriangulation& walls, const SizeField& rho,
+                                     const InteriorOptions& options, InteriorBudget budget,
+                                     Observer* observer, InteriorStats* stats) {
     InteriorStats local;
     AdvancingFront af(domain, boundary, walls, rho, options, budget, observer, stats ? *stats : local);
     return af.run();

@@ -49,8 +49,8 @@ struct InteriorBudget {
 /// changes faster than the front can follow. The pipeline catches it.
 struct FieldJumps {};
 Array<Vec2> generate_interior_points(const Domain& domain, const Discretisation& boundary,
-                                           const BoundaryTriangulation& walls, const SizeField& rho,
-                                           const InteriorOptions& options = {}, InteriorBudget budget = {},
-                                           Observer* observer = nullptr, InteriorStats* stats = nullptr);
+                                     const BoundaryTriangulation& walls, const SizeField& rho,
+                                     const InteriorOptions& options = {}, InteriorBudget budget = {},
+                                     Observer* observer = nullptr, InteriorStats* stats = nullptr);
 
 }  // namespace meshd::core

@@ -8,8 +8,8 @@
 
 #include <array>
 #include <cstdint>
-#include <vector>
 #include <span>
+#include <vector>
 
 #include "meshd/core/mesh.hpp"
 #include "meshd/core/mesher.hpp"
