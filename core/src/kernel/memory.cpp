@@ -51,6 +51,16 @@ constexpr std::size_t kSmall = std::size_t{1} << 20;
 
 std::size_t whole_huge_pages(std::size_t bytes) { return (bytes + kHugePage - 1) & ~(kHugePage - 1); }
 
+// Huge pages asked for under a block at a 2 MiB boundary of whole huge pages.
+void advise_block(void* at, std::size_t size) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    (void)madvise(at, size, MADV_HUGEPAGE);
+#else
+    (void)at;
+    (void)size;
+#endif
+}
+
 }  // namespace
 
 #if defined(__linux__) && defined(MREMAP_FIXED)
@@ -89,9 +99,7 @@ char* map_aligned(std::size_t size, int prot, int flags) {
 char* map_fresh(std::size_t size) {
     char* at = map_aligned(size, PROT_READ | PROT_WRITE, 0);
     if (at == nullptr) throw std::bad_alloc();
-#if defined(MADV_HUGEPAGE)
-    (void)madvise(at, size, MADV_HUGEPAGE);
-#endif
+    advise_block(at, size);
     reuse.counters.mapped_bytes += size;
     return at;
 }
@@ -105,9 +113,7 @@ char* grow(Block b, std::size_t size) {
         munmap(at, size);
         return nullptr;
     }
-#if defined(MADV_HUGEPAGE)
-    (void)madvise(at, size, MADV_HUGEPAGE);
-#endif
+    advise_block(at, size);
     return at;
 }
 
@@ -233,6 +239,7 @@ void* allocate_huge(std::size_t bytes, std::size_t align) {
 #else
     void* p = std::aligned_alloc(kHugePage, size);
     if (p == nullptr) throw std::bad_alloc();
+    advise_block(p, size);
     return p;
 #endif
 }
