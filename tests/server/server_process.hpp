@@ -8,8 +8,9 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <mutex>
+#include <condition_variable>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -64,9 +65,14 @@ public:
             char buf[4096];
             for (;;) {
                 const ssize_t n = read(out_, buf, sizeof buf);
-                if (n <= 0) break;
                 std::lock_guard<std::mutex> lock(m_);
+                if (n <= 0) {
+                    output_ended_ = true;
+                    read_cv_.notify_all();
+                    break;
+                }
                 log_.append(buf, static_cast<size_t>(n));
+                read_cv_.notify_all();
             }
         });
     }
@@ -115,8 +121,26 @@ public:
         return -1;
     }
 
+    /// What the server has printed so far, as far as the reading thread has got: a line just
+    /// written may arrive a moment later (wait for it with logged()).
     std::string log() {
         std::lock_guard<std::mutex> lock(m_);
+        return log_;
+    }
+
+    /// Waits until the server's output holds `text`: true then; false when its output ends, or
+    /// the timeout passes, without it.
+    bool logged(const std::string& text, std::chrono::duration<double> timeout = std::chrono::seconds(60)) {
+        std::unique_lock<std::mutex> lock(m_);
+        read_cv_.wait_for(lock, timeout, [&] { return output_ended_ || log_.find(text) != std::string::npos; });
+        return log_.find(text) != std::string::npos;
+    }
+
+    /// Everything the server printed, once its output has ended (it has exited), or what has
+    /// arrived when the timeout passes.
+    std::string whole_log(std::chrono::duration<double> timeout = std::chrono::seconds(60)) {
+        std::unique_lock<std::mutex> lock(m_);
+        read_cv_.wait_for(lock, timeout, [&] { return output_ended_; });
         return log_;
     }
 
@@ -126,7 +150,9 @@ private:
     int port_ = 0;
     bool exited_ = false;
     std::string log_;
+    bool output_ended_ = false;
     std::mutex m_;
+    std::condition_variable read_cv_;
     std::thread reader_;
 };
 

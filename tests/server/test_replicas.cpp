@@ -185,7 +185,7 @@ TEST(Replicas, ADrainingReplicaHandsItsJobsBack) {
     for (const auto& id : ids) ASSERT_FALSE(id.empty());
     a->signal(SIGTERM);
     EXPECT_EQ(a->wait(std::chrono::seconds(30)), 0);
-    EXPECT_NE(a->log().find("job " + ids[0] + " handed back"), std::string::npos) << a->log();
+    EXPECT_TRUE(a->logged("job " + ids[0] + " handed back")) << a->log();
     // Nothing ran them meanwhile: B comes after A is gone.
     auto b = replica(redis, {"--workers", "1"});
     auto cb = client(*b);
