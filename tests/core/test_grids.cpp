@@ -469,3 +469,43 @@ TEST(BlockReuse, FreedBlocksServeTheNextAllocationsAndNeverRaiseThePeak) {
     }
 }
 #endif
+
+#if defined(__linux__) && defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/asan_interface.h>
+
+// Under AddressSanitizer (the sanitize build), the large blocks, which are mappings of their
+// own rather than malloc's, are still watched: the bytes past those asked for, up to the
+// block's whole huge pages, and a kept block, are poisoned; a block taken again is usable as
+// far as asked; what is unmapped is left clean for the next mapping there. An overrun into
+// the rounding is reported.
+TEST(BlockReuse, AddressSanitizerWatchesTheLargeBlocks) {
+    constexpr std::size_t MiB = std::size_t{1} << 20;
+    using Bytes = Array<char>;
+    auto poisoned = [](const char* p) { return __asan_address_is_poisoned(p) != 0; };
+    const detail::BlockReuse scope;
+    const std::size_t asked = 3 * MiB + 5;  // a block of two huge pages, 4 MiB
+    Bytes a(asked, 'a');
+    char* const at = a.data();
+    EXPECT_FALSE(poisoned(at));
+    EXPECT_FALSE(poisoned(at + asked - 1));
+    EXPECT_TRUE(poisoned(at + asked));
+    EXPECT_TRUE(poisoned(at + 4 * MiB - 1));
+    EXPECT_DEATH(
+        {
+            volatile char c = at[asked + 100];
+            (void)c;
+        },
+        "use-after-poison");
+
+    Bytes().swap(a);  // kept, whole
+    EXPECT_EQ(detail::block_counters().kept_bytes, 4 * MiB);
+    EXPECT_TRUE(poisoned(at));
+    EXPECT_TRUE(poisoned(at + 2 * MiB));
+
+    Bytes b(2 * MiB);  // the kept block, cut to one huge page; its second one unmapped
+    ASSERT_EQ(b.data(), at);
+    EXPECT_FALSE(poisoned(at));
+    EXPECT_FALSE(poisoned(at + 2 * MiB - 1));
+    EXPECT_FALSE(poisoned(at + 2 * MiB));
+}
+#endif

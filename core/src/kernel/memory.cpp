@@ -12,6 +12,17 @@
 #include <sys/mman.h>
 #endif
 
+#if defined(__SANITIZE_ADDRESS__)
+#define MESHD_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define MESHD_ASAN 1
+#endif
+#endif
+#if MESHD_ASAN
+#include <sanitizer/asan_interface.h>
+#endif
+
 namespace meshd::core::detail {
 
 void advise_huge_pages(const void* p, std::size_t bytes) {
@@ -51,6 +62,29 @@ constexpr std::size_t kSmall = std::size_t{1} << 20;
 
 std::size_t whole_huge_pages(std::size_t bytes) { return (bytes + kHugePage - 1) & ~(kHugePage - 1); }
 
+// AddressSanitizer watches malloc's blocks, not these mappings: it is told which of their bytes
+// the program may touch. A block's tail past the bytes asked for, and a kept block, are marked
+// out of bounds (an overrun into the rounding, a use after free, are reported as uses of
+// poisoned memory); a range is marked usable again before it is unmapped, for whatever the
+// kernel maps there next. Nothing happens in other builds.
+[[maybe_unused]] void mark_unusable(const void* p, std::size_t n) {
+#if MESHD_ASAN
+    ASAN_POISON_MEMORY_REGION(p, n);
+#else
+    (void)p;
+    (void)n;
+#endif
+}
+
+[[maybe_unused]] void mark_usable(const void* p, std::size_t n) {
+#if MESHD_ASAN
+    ASAN_UNPOISON_MEMORY_REGION(p, n);
+#else
+    (void)p;
+    (void)n;
+#endif
+}
+
 // Huge pages asked for under a block at a 2 MiB boundary of whole huge pages.
 void advise_block(void* at, std::size_t size) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
@@ -84,6 +118,11 @@ struct Reuse {
 };
 thread_local Reuse reuse;
 
+void unmap(char* at, std::size_t size) {
+    mark_usable(at, size);
+    munmap(at, size);
+}
+
 // `size` bytes (whole huge pages) at a 2 MiB boundary: a huge page more mapped, the ends cut.
 char* map_aligned(std::size_t size, int prot, int flags) {
     const std::size_t span = size + kHugePage;
@@ -113,6 +152,7 @@ char* grow(Block b, std::size_t size) {
         munmap(at, size);
         return nullptr;
     }
+    mark_usable(b.at, b.size);  // no longer mapped there
     advise_block(at, size);
     return at;
 }
@@ -143,9 +183,9 @@ void trim_kept() {
         if (b.size <= cut) {
             const std::size_t i = static_cast<std::size_t>(&b - reuse.kept.data());
             const Block gone = take_kept(i);
-            munmap(gone.at, gone.size);
+            unmap(gone.at, gone.size);
         } else {
-            munmap(b.at + (b.size - cut), cut);
+            unmap(b.at + (b.size - cut), cut);
             b.size -= cut;
             reuse.counters.kept_bytes -= cut;
         }
@@ -165,14 +205,14 @@ void* allocate_large(std::size_t size) {
         const std::size_t pick = fit < reuse.count ? fit : largest;
         const Block b = take_kept(pick);
         if (b.size >= size) {
-            if (b.size > size) munmap(b.at + size, b.size - size);
+            if (b.size > size) unmap(b.at + size, b.size - size);
             at = b.at;
             reuse.counters.reused_bytes += size;
         } else if ((at = grow(b, size)) != nullptr) {
             reuse.counters.reused_bytes += b.size;
             reuse.counters.mapped_bytes += size - b.size;
         } else {
-            munmap(b.at, b.size);
+            unmap(b.at, b.size);
         }
     }
     if (at == nullptr) at = map_fresh(size);
@@ -186,7 +226,7 @@ void* allocate_large(std::size_t size) {
 
 void release_large(void* p, std::size_t size) noexcept {
     if (reuse.depth == 0) {
-        munmap(p, size);
+        unmap(static_cast<char*>(p), size);
         return;
     }
     reuse.live -= static_cast<std::ptrdiff_t>(size);
@@ -195,7 +235,7 @@ void release_large(void* p, std::size_t size) noexcept {
         const std::size_t i = smallest_kept();
         if (reuse.kept[i].size < size) std::swap(b, reuse.kept[i]);
         reuse.counters.kept_bytes += size - b.size;
-        munmap(b.at, b.size);
+        unmap(b.at, b.size);
         return;
     }
     reuse.kept[reuse.count++] = b;
@@ -213,7 +253,7 @@ BlockReuse::~BlockReuse() {
     if (!outermost_) return;
     while (reuse.count > 0) {
         const Block b = take_kept(reuse.count - 1);
-        munmap(b.at, b.size);
+        unmap(b.at, b.size);
     }
     reuse.live = reuse.most = 0;
 }
@@ -235,7 +275,10 @@ void* allocate_huge(std::size_t bytes, std::size_t align) {
     if (bytes > SIZE_MAX - kHugePage) throw std::bad_alloc();
     const std::size_t size = whole_huge_pages(bytes);
 #if MESHD_BLOCK_REUSE
-    return allocate_large(size);
+    char* at = static_cast<char*>(allocate_large(size));
+    mark_usable(at, bytes);
+    mark_unusable(at + bytes, size - bytes);
+    return at;
 #else
     void* p = std::aligned_alloc(kHugePage, size);
     if (p == nullptr) throw std::bad_alloc();
@@ -248,7 +291,9 @@ void deallocate_huge(void* p, std::size_t bytes, std::size_t align) noexcept {
     if (p == nullptr) return;
     if (bytes >= kSmall) {
 #if MESHD_BLOCK_REUSE
-        release_large(p, whole_huge_pages(bytes));
+        const std::size_t size = whole_huge_pages(bytes);
+        mark_unusable(p, size);
+        release_large(p, size);
 #else
         std::free(p);
 #endif

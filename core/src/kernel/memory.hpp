@@ -48,6 +48,9 @@ void populate(void* p, std::size_t bytes);
 /// made: the resident peak can come out a little higher, 1,722 MB against 1,679 at 10^7
 /// points.) The outermost BlockReuse on a thread returns what is kept when it ends; nested
 /// ones do nothing. Blocks freed on another thread, or outside any scope, are unmapped.
+///
+/// Under AddressSanitizer a block's bytes past those asked for and a kept block's are
+/// poisoned, so overruns and uses after free are reported as in malloc's blocks.
 class BlockReuse {
 public:
     BlockReuse();
