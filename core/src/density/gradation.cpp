@@ -39,7 +39,7 @@ GradationField::GradationField(std::span<const Vec2> sources, std::span<const do
             h_.push_back(sizes[i]);
         }
         const std::uint32_t leaves = (n + kLeafSize - 1) / kLeafSize;
-        nodes_.reserve(2 * static_cast<size_t>(leaves));
+        detail::reserve_huge(nodes_, 2 * static_cast<size_t>(leaves));
         build(0, leaves, n);
     } else {
         struct Source {

@@ -56,7 +56,7 @@ private:
     double least_cone(std::uint32_t b, std::uint32_t e, Vec2 x) const;
 
     Array<double> x_, y_, h_;  // the sources in tree order (three more entries: least_cone)
-    std::vector<Node> nodes_;
+    Array<Node> nodes_;
     double slope_;
     double search_factor_;  // a query searches up to this times its bound
     // The last search: where, and a lower bound of the envelope there.

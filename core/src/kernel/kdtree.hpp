@@ -86,8 +86,9 @@ enum class Descend { Stop, No, LeftFirst, RightFirst };
 
 /// Depth-first traversal from the root (node 0) of any node array with KdNode's `left` and
 /// `right` (left == 0 for a leaf); visit(node) returns a Descend.
-template <class Node, class Visit>
-void depth_first(const std::vector<Node>& nodes, Visit&& visit) {
+template <class Nodes, class Visit>
+void depth_first(const Nodes& nodes, Visit&& visit) {
+    using Node = typename Nodes::value_type;
     if (nodes.empty()) return;
     std::uint32_t stack[128];  // two entries a level at most; the trees are far shallower
     int top = 0;
