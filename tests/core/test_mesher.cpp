@@ -559,12 +559,12 @@ TEST(Mesher, TheObserverHearsOfAMeshOutgrowingItsForecast) {
 // field to the end of the run, beside the points' own peak, and the gradation reported them
 // with the forecast's peak (96 bytes a source, from 2^16 sources). So every report of the
 // interior is the points' peak plus the same bytes as the gradation's last report beyond the
-// forecast's peak. The case: a strip of 0.0005 along a wall graded at 1.5, whose gradation
-// forecast cannot see.
+// forecast's peak. The case: a strip of 0.0005 along a wall graded at 1.5, which the forecast
+// cannot see, wide enough for more than 2^16 sources (about one a point of the strip).
 TEST(Mesher, TheInteriorsReportsCarryTheGradationsSources) {
     const Domain dom = build_domain(unit_square());
     DensitySpec d;
-    d.size = std::string("x < 0.01 ? 0.0005 : 0.2");
+    d.size = std::string("x < 0.02 ? 0.0005 : 0.2");
     d.gradation = 1.5;
     struct Forecasts : Observer {
         std::vector<std::pair<double, size_t>> heard;

@@ -634,15 +634,15 @@ TEST_P(Http, AMeshThatOutgrowsItsForecastPastTheMemoryBudgetStops) {
     EXPECT_EQ(gauge(c, "meshd_memory_reserved_bytes"), 0.0);
 }
 
-// A gradation's sources stay with the size field to the end of the run, and where the
-// boundary's triangulation has slivers they run to 20 a mesh point: 2.8 million (about 200 MB
-// measured) for the 145,000 points of the NACA 0006 far field of bench/hard with a gradation,
-// whose forecast peak (32 MiB and 256 bytes a point) is 68 MB. Under a budget of 120 MB it
-// used to be meshed whole on that reservation; the sources' memory now joins it as they are
-// gathered, and the run stops with 413 as it passes the budget. The same far field three
-// times smaller fits: its reservation grows and is given back.
+// A gradation's sources stay with the size field to the end of the run: 323,000 of them (96
+// bytes each as reported, 31 MB) for the 145,000 points of the NACA 0006 far field of
+// bench/hard with a gradation, whose forecast peak (32 MiB and 256 bytes a point) is 71 MB.
+// The sources' memory joins the reservation as they are gathered (from 2^16 and at each
+// doubling: 83 MB at 131,072, 96 MB at 262,144), so under a budget of 85 MiB (89 MB) the run
+// stops with 413 as it passes the budget; it used to be meshed whole on the forecast's
+// reservation. The same far field three times smaller fits, and its reservation is given back.
 TEST_P(Http, AGradationsSourcesCountAgainstTheMemoryBudget) {
-    auto server = serve({"--memory-budget-mb", "120"});
+    auto server = serve({"--memory-budget-mb", "85"});
     ServerProcess& s = *server;
     auto c = client(s);
     json req = json::parse(read_file(MESHD_SOURCE_DIR "/bench/hard/naca_0006_uniform.json"));

@@ -5,14 +5,18 @@
 // while that edge is longer than twice rho at the centroid (bisection, unlike a split in four,
 // does not refine the short direction of the long slivers such a triangulation has); it stops
 // as soon as it passes the limit, so refusing a request that is far too large costs little.
+// A gradation's samples of rho come from square cells at the local size instead (below): the
+// bisection's leaves in the slivers are many to a size squared, each a source of the envelope.
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "pipeline/estimate.hpp"
 
 #include "kernel/memory.hpp"
+#include "kernel/predicates.hpp"
 
 #include "meshd/core/errors.hpp"
 #include "meshd/core/mesher.hpp"
@@ -92,6 +96,106 @@ void for_each_sample(const BoundaryTriangulation& walls, const SizeField& rho, O
     }
 }
 
+// Visits samples (place, rho) of the domain on square cells of one lattice: the cells of
+// side S / 2^l from the corner of the boundary's box (S a power of two at least its extent),
+// each split in four while its side is above the finest of rho at its centre, rho at both
+// ends of one of its sides (the larger of the two; a fine region along a wall reaches the
+// corners on it), and rho at a boundary point inside it of the triangle being covered. Each
+// triangle of the boundary's triangulation is covered by the cells that meet it; a leaf
+// whose centre is in the triangle is its sample, of the cell's area. Unlike the bisection
+// above, whose leaves in the slivers of such a triangulation are many to a size squared (2.8
+// million samples for the 145,000 points of a far field), there are one to four samples a
+// size squared wherever the triangles lie. f returns false to stop; the visits stop after
+// max_visits.
+template <class F>
+void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& rho, Observer* observer,
+                          double max_visits, F&& f) {
+    const Array<Vec2>& pts = walls.points;
+    Box box;
+    for (const Vec2& p : pts) box.add(p);
+    if (box.empty()) return;
+    const double extent = std::fmax(box.hi.x - box.lo.x, box.hi.y - box.lo.y);
+    int exponent = 0;
+    (void)std::frexp(extent, &exponent);  // extent < 2^exponent
+    const double side = std::ldexp(1.0, exponent);
+    if (!(extent > 0.0) || !std::isfinite(side)) return;
+    const Vec2 origin = box.lo;
+    auto at = [&](Vec2 p) {
+        try {
+            return rho.interior(p);
+        } catch (const GeometryError& e) {
+            if (e.kind() != GeometryErrorKind::DensityInvalid) throw;
+            return HUGE_VAL;
+        }
+    };
+    std::vector<double> corner(pts.size(), -1.0);
+    auto at_point = [&](std::uint32_t v) {
+        if (corner[v] < 0.0) corner[v] = at(pts[v]);
+        return corner[v];
+    };
+    struct Cell {
+        std::int64_t i, j;
+        int level;
+    };
+    std::vector<Cell> stack;
+    std::uint64_t visited = 0;
+    for (const Triangle& t : walls.triangles) {
+        const Vec2 v[3] = {pts[t.v[0]], pts[t.v[1]], pts[t.v[2]]};
+        const double rv[3] = {at_point(t.v[0]), at_point(t.v[1]), at_point(t.v[2])};
+        Box tb;
+        for (const Vec2& p : v) tb.add(p);
+        // The level whose cells are at least the triangle's extent: at most two a side meet it.
+        int level = 0;
+        double s = side;
+        const double te = std::fmax(tb.hi.x - tb.lo.x, tb.hi.y - tb.lo.y);
+        while (level < 60 && 0.5 * s >= te) {
+            s *= 0.5;
+            ++level;
+        }
+        const auto first_i = static_cast<std::int64_t>(std::floor((tb.lo.x - origin.x) / s));
+        const auto first_j = static_cast<std::int64_t>(std::floor((tb.lo.y - origin.y) / s));
+        for (std::int64_t di = 0; di < 2; ++di)
+            for (std::int64_t dj = 0; dj < 2; ++dj) stack.push_back({first_i + di, first_j + dj, level});
+        while (!stack.empty()) {
+            const Cell c = stack.back();
+            stack.pop_back();
+            const double cs = std::ldexp(side, -c.level);
+            const Vec2 lo{origin.x + static_cast<double>(c.i) * cs, origin.y + static_cast<double>(c.j) * cs};
+            const Vec2 hi{lo.x + cs, lo.y + cs};
+            if (hi.x < tb.lo.x || lo.x > tb.hi.x || hi.y < tb.lo.y || lo.y > tb.hi.y) continue;
+            // Separated by a side of the (counter-clockwise) triangle: every corner beyond it.
+            const Vec2 q[4] = {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
+            bool apart = false;
+            for (int e = 0; e < 3 && !apart; ++e) {
+                const Vec2 a = v[e], b = v[(e + 1) % 3];
+                const double tol = 1e-12 * (distance(a, b) + cs) * (distance(a, b) + cs);
+                apart = true;
+                for (const Vec2& p : q) apart = apart && cross(b - a, p - a) < -tol;
+            }
+            if (apart) continue;
+            if ((++visited & 0xffff) == 0 && observer && observer->should_stop()) throw Cancelled();
+            if (static_cast<double>(visited) > max_visits) return;
+            const Vec2 m{lo.x + 0.5 * cs, lo.y + 0.5 * cs};
+            const double r = at(m);
+            double finest = r;
+            const double rq[4] = {at(q[0]), at(q[1]), at(q[2]), at(q[3])};
+            for (int k = 0; k < 4; ++k) finest = std::fmin(finest, std::fmax(rq[k], rq[(k + 1) % 4]));
+            for (int k = 0; k < 3; ++k)
+                if (v[k].x >= lo.x && v[k].x <= hi.x && v[k].y >= lo.y && v[k].y <= hi.y) finest = std::fmin(finest, rv[k]);
+            if (cs > finest && c.level < 60) {
+                for (std::int64_t di = 0; di < 2; ++di)
+                    for (std::int64_t dj = 0; dj < 2; ++dj) stack.push_back({2 * c.i + di, 2 * c.j + dj, c.level + 1});
+                continue;
+            }
+            if (!std::isfinite(r)) continue;
+            if (orient2d(v[0], v[1], m) == Orientation::Right || orient2d(v[1], v[2], m) == Orientation::Right ||
+                orient2d(v[2], v[0], m) == Orientation::Right)
+                continue;
+            if (!f(m, r, cs * cs)) return;
+        }
+    }
+}
+
 // Samples a count up to `limit` may take: a few per point on the triangulations of boundaries
 // with fair angles.
 double max_visits(double limit) { return 16.0 * limit + 65536.0; }
@@ -142,15 +246,16 @@ size_t set_gradation_sources(SizeField& rho, const Discretisation& d, const Boun
     Array<double> sizes(d.rho.begin(), d.rho.end());
     double total = static_cast<double>(d.size());
     const double limit = static_cast<double>(max_points);
-    // The samples run to 20 a mesh point where the boundary's triangulation has slivers (2.8
-    // million, 200 MB, for the 145,000 points of the NACA 0006 case with a gradation, whose
-    // forecast peak is 68 MB): a budget that reserved the forecast's peak hears of them.
+    // The samples run to a few a mesh point (323,000, 31 MB as counted here, for the 145,000
+    // points of the NACA 0006 far field with a gradation, whose forecast peak is 71 MB; the
+    // bisection's leaves were 2.8 million): a budget that reserved the forecast's peak hears
+    // of them.
     size_t report_at = kFirstSourcesReport;
     auto report = [&] {
         if (observer)
             observer->on_forecast(forecast_points, peak_bytes_for(forecast_points) + kGradationBytesPerSource * pts.size());
     };
-    for_each_sample(walls, rho, observer, max_visits(limit), [&](Vec2 g, double r, double area) {
+    for_each_cell_sample(walls, rho, observer, max_visits(limit), [&](Vec2 g, double r, double area) {
         pts.push_back(g);
         sizes.push_back(r);
         if (pts.size() >= report_at) {

@@ -51,7 +51,8 @@ double estimate_point_count(const Discretisation& boundary, const BoundaryTriang
 [[noreturn]] void refuse_too_many(double estimate, size_t limit);
 
 /// Limits the growth of rho inside the domain to its gradation (density/gradation.hpp):
-/// samples the boundary points and the interior, then sets them as the gradation sources.
+/// samples the boundary points and the interior (the centres of square cells of one lattice,
+/// split while larger than the local size), then sets them as the gradation sources.
 /// The samples follow the field before the limit, so a field that would give more than
 /// max_points points is refused (refuse_too_many) as soon as the sampling shows it.
 /// The samples' memory stays with the field to the end of the run, beside the peak that
