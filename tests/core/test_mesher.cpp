@@ -248,6 +248,29 @@ TEST(Mesher, GradationLimitsHowFastSizesGrow) {
                 r.mesh.point_count(), q.mesh.point_count(), r.quality.quality_min, q.quality.quality_min);
 }
 
+// A gradation samples the interior on square cells no larger than the local size and more
+// than half of it: one to four samples in a square of the local size, wherever the triangles
+// of the boundary's triangulation lie. In a far field they are slivers from the airfoil to the
+// circle, whose bisection down to the local size gave about 20 samples a mesh point. The count
+// is read from the bytes set_gradation_sources reports, 96 a sample (estimate.cpp), less the
+// boundary's points, which are samples too.
+TEST(Mesher, AGradationsSamplesAreOneToFourInASquareOfTheLocalSize) {
+    const double radius = 5.0, h = 0.05;
+    const Domain dom = build_domain(naca_in_circle("0006", radius));
+    DensitySpec spec = density_of("0.05");
+    spec.gradation = 1.5;
+    SizeField rho(spec, dom);
+    const Discretisation d = discretise_boundary(dom, rho);
+    const size_t bytes = set_gradation_sources(rho, d, triangulate_boundary(d), kMaxPointsLimit);
+    ASSERT_EQ(bytes % 96, 0u);
+    const double interior = static_cast<double>(bytes / 96 - d.size());
+    // The airfoil's area is below 0.05 (a NACA 00xx encloses about 0.685 t c^2).
+    const double area_hi = std::numbers::pi * radius * radius, area_lo = area_hi - 0.05;
+    EXPECT_GE(interior, area_lo / (h * h));
+    // Four a size squared, and the cells the circle cuts whose centres are inside.
+    EXPECT_LE(interior, 4.0 * area_hi / (h * h) + 4.0 * (2.0 * std::numbers::pi * radius) / h);
+}
+
 TEST(Mesher, MinAngleRefinementGuaranteesTheBoundAwayFromInputCorners) {
     for (const Case& c : {square(), annulus(), plate_with_holes(), naca("0012"), three_element()}) {
         const Domain dom = build_domain(c.domain);
