@@ -26,6 +26,32 @@ namespace meshd::core {
 
 namespace {
 
+// rho at p; where it cannot be had (between a curve and its flattening), infinity: such a
+// place gives no reason to split.
+double rho_or_infinity(const SizeField& rho, Vec2 p) {
+    try {
+        return rho.interior(p);
+    } catch (const GeometryError& e) {
+        if (e.kind() != GeometryErrorKind::DensityInvalid) throw;
+        return HUGE_VAL;
+    }
+}
+
+// rho at the boundary's points, each evaluated once, when first asked.
+class PointSizes {
+public:
+    PointSizes(const SizeField& rho, const Array<Vec2>& pts) : rho_(rho), pts_(pts), at_(pts.size(), -1.0) {}
+    double operator()(std::uint32_t v) {
+        if (at_[v] < 0.0) at_[v] = rho_or_infinity(rho_, pts_[v]);
+        return at_[v];
+    }
+
+private:
+    const SizeField& rho_;
+    const Array<Vec2>& pts_;
+    std::vector<double> at_;
+};
+
 // Visits samples (place, rho) of the domain at about the local size: the leaves of the
 // bisection described above. f returns false to stop. Bisection keeps the smallest angle
 // within half of the triangle's own, so a sliver's leaves stay slivers, each worth a small
@@ -47,21 +73,8 @@ void for_each_sample(const BoundaryTriangulation& walls, const SizeField& rho, O
                      double max_visits, F&& f) {
     const Array<Vec2>& pts = walls.points;
     std::uint64_t visited = 0;
-    // rho at a corner; where it cannot be had (between a curve and its flattening), the
-    // corner gives no reason to split.
-    auto at_corner = [&](Vec2 p) {
-        try {
-            return rho.interior(p);
-        } catch (const GeometryError& e) {
-            if (e.kind() != GeometryErrorKind::DensityInvalid) throw;
-            return HUGE_VAL;
-        }
-    };
-    std::vector<double> corner(pts.size(), -1.0);  // rho at the boundary's points, once each
-    auto at_point = [&](std::uint32_t v) {
-        if (corner[v] < 0.0) corner[v] = at_corner(pts[v]);
-        return corner[v];
-    };
+    auto at_corner = [&](Vec2 p) { return rho_or_infinity(rho, p); };
+    PointSizes at_point(rho, pts);
     struct Tri {
         Vec2 a, b, c;
         double ra, rb, rc;
@@ -121,19 +134,8 @@ void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& r
     const double side = std::ldexp(1.0, exponent);
     if (!(extent > 0.0) || !std::isfinite(side)) return;
     const Vec2 origin = box.lo;
-    auto at = [&](Vec2 p) {
-        try {
-            return rho.interior(p);
-        } catch (const GeometryError& e) {
-            if (e.kind() != GeometryErrorKind::DensityInvalid) throw;
-            return HUGE_VAL;
-        }
-    };
-    std::vector<double> corner(pts.size(), -1.0);
-    auto at_point = [&](std::uint32_t v) {
-        if (corner[v] < 0.0) corner[v] = at(pts[v]);
-        return corner[v];
-    };
+    auto at = [&](Vec2 p) { return rho_or_infinity(rho, p); };
+    PointSizes at_point(rho, pts);
     struct Cell {
         std::int64_t i, j;
         int level;
