@@ -8,9 +8,9 @@
 // A gradation's samples of rho come from square cells at the local size instead (below): the
 // bisection's leaves in the slivers are many to a size squared, each a source of the envelope.
 
+#include <array>
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -122,8 +122,8 @@ void for_each_sample(const BoundaryTriangulation& walls, const SizeField& rho, O
 // size squared wherever the triangles lie. f returns false to stop; the visits stop after
 // max_visits.
 template <class F>
-void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& rho, double slope,
-                          Observer* observer, double max_visits, F&& f) {
+void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& rho, Observer* observer,
+                          double max_visits, F&& f) {
     const Array<Vec2>& pts = walls.points;
     Box box;
     for (const Vec2& p : pts) box.add(p);
@@ -136,9 +136,14 @@ void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& r
     const Vec2 origin = box.lo;
     auto at = [&](Vec2 p) { return rho_or_infinity(rho, p); };
     PointSizes at_point(rho, pts);
+    // A cell and rho at its corners (in the order of `q` below), which its parent evaluated.
     struct Cell {
         std::int64_t i, j;
         int level;
+        std::array<double, 4> rq;
+    };
+    auto corner_of = [&](std::int64_t i, std::int64_t j, double cs) {
+        return Vec2{origin.x + static_cast<double>(i) * cs, origin.y + static_cast<double>(j) * cs};
     };
     std::vector<Cell> stack;
     std::uint64_t visited = 0;
@@ -158,16 +163,21 @@ void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& r
         const auto first_i = static_cast<std::int64_t>(std::floor((tb.lo.x - origin.x) / s));
         const auto first_j = static_cast<std::int64_t>(std::floor((tb.lo.y - origin.y) / s));
         for (std::int64_t di = 0; di < 2; ++di)
-            for (std::int64_t dj = 0; dj < 2; ++dj) stack.push_back({first_i + di, first_j + dj, level});
+            for (std::int64_t dj = 0; dj < 2; ++dj) {
+                const std::int64_t i = first_i + di, j = first_j + dj;
+                stack.push_back({i, j, level,
+                                 {at(corner_of(i, j, s)), at(corner_of(i + 1, j, s)), at(corner_of(i + 1, j + 1, s)),
+                                  at(corner_of(i, j + 1, s))}});
+            }
         while (!stack.empty()) {
             const Cell c = stack.back();
             stack.pop_back();
-            const double cs = std::ldexp(side, -c.level);
-            const Vec2 lo{origin.x + static_cast<double>(c.i) * cs, origin.y + static_cast<double>(c.j) * cs};
-            const Vec2 hi{lo.x + cs, lo.y + cs};
+            const double cs = std::ldexp(side, -c.level), half = 0.5 * cs;
+            const Vec2 lo = corner_of(c.i, c.j, cs), hi = corner_of(c.i + 1, c.j + 1, cs);
             if (hi.x < tb.lo.x || lo.x > tb.hi.x || hi.y < tb.lo.y || lo.y > tb.hi.y) continue;
             // Separated by a side of the (counter-clockwise) triangle: every corner beyond it.
             const Vec2 q[4] = {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
+            const std::array<double, 4>& rq = c.rq;
             bool apart = false;
             for (int e = 0; e < 3 && !apart; ++e) {
                 const Vec2 a = v[e], b = v[(e + 1) % 3];
@@ -178,32 +188,29 @@ void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& r
             if (apart) continue;
             if ((++visited & 0xffff) == 0 && observer && observer->should_stop()) throw Cancelled();
             if (static_cast<double>(visited) > max_visits) return;
-            const Vec2 m{lo.x + 0.5 * cs, lo.y + 0.5 * cs};
+            // The centre, as a child's corner would be placed.
+            const Vec2 m = corner_of(2 * c.i + 1, 2 * c.j + 1, half);
             const double r = at(m);
             double finest = r;
-            const double rq[4] = {at(q[0]), at(q[1]), at(q[2]), at(q[3])};
-            for (int k = 0; k < 4; ++k) finest = std::fmin(finest, std::fmax(rq[k], rq[(k + 1) % 4]));
+            for (size_t k = 0; k < 4; ++k) finest = std::fmin(finest, std::fmax(rq[k], rq[(k + 1) % 4]));
             for (int k = 0; k < 3; ++k)
                 if (v[k].x >= lo.x && v[k].x <= hi.x && v[k].y >= lo.y && v[k].y <= hi.y) finest = std::fmin(finest, rv[k]);
             if (cs > finest && c.level < 60) {
-                for (std::int64_t di = 0; di < 2; ++di)
-                    for (std::int64_t dj = 0; dj < 2; ++dj) stack.push_back({2 * c.i + di, 2 * c.j + dj, c.level + 1});
+                // The children's corners: the cell's own, the middles of its sides, its centre.
+                const std::int64_t i = 2 * c.i, j = 2 * c.j;
+                const double below = at(corner_of(i + 1, j, half)), right = at(corner_of(i + 2, j + 1, half));
+                const double above = at(corner_of(i + 1, j + 2, half)), left = at(corner_of(i, j + 1, half));
+                const int next = c.level + 1;
+                stack.push_back({i, j, next, {rq[0], below, r, left}});
+                stack.push_back({i + 1, j, next, {below, rq[1], right, r}});
+                stack.push_back({i + 1, j + 1, next, {r, right, rq[2], above}});
+                stack.push_back({i, j + 1, next, {left, r, above, rq[3]}});
                 continue;
             }
-            auto in_triangle = [&](Vec2 p) {
-                return orient2d(v[0], v[1], p) != Orientation::Right && orient2d(v[1], v[2], p) != Orientation::Right &&
-                       orient2d(v[2], v[0], p) != Orientation::Right;
-            };
-            if (!std::isfinite(r) || !in_triangle(m)) continue;
+            if (!std::isfinite(r) || orient2d(v[0], v[1], m) == Orientation::Right ||
+                orient2d(v[1], v[2], m) == Orientation::Right || orient2d(v[2], v[0], m) == Orientation::Right)
+                continue;
             if (!f(m, r, cs * cs)) return;
-            // A corner whose cone comes below rho at the centre: the field changes faster
-            // than the slope within the cell (a jump, the edge of a fine strip), and the
-            // centre alone would place it up to half a cell off. It is a sample too (of no
-            // area: the centre counted the cell). Where the field grows no faster than the
-            // slope, as it mostly does, there is none.
-            for (int k = 0; k < 4; ++k)
-                if (rq[k] + slope * (0.5 * std::numbers::sqrt2 * cs) < r && in_triangle(q[k]) && !f(q[k], rq[k], 0.0))
-                    return;
         }
     }
 }
@@ -267,8 +274,7 @@ size_t set_gradation_sources(SizeField& rho, const Discretisation& d, const Boun
         if (observer)
             observer->on_forecast(forecast_points, peak_bytes_for(forecast_points) + kGradationBytesPerSource * pts.size());
     };
-    const double slope = rho.gradation().value_or(1.0) - 1.0;
-    for_each_cell_sample(walls, rho, slope, observer, max_visits(limit), [&](Vec2 g, double r, double area) {
+    for_each_cell_sample(walls, rho, observer, max_visits(limit), [&](Vec2 g, double r, double area) {
         pts.push_back(g);
         sizes.push_back(r);
         if (pts.size() >= report_at) {
