@@ -271,6 +271,31 @@ TEST(Mesher, AGradationsSamplesAreOneToFourInASquareOfTheLocalSize) {
     EXPECT_LE(interior, 4.0 * area_hi / (h * h) + 4.0 * (2.0 * std::numbers::pi * radius) / h);
 }
 
+// The cells reach past the domain, but a field finer beyond it than in it does not split them
+// down to its size: on the unit square under 0.1, with 10^-6 beyond its right side, the
+// sampling visits a few hundred cells, fewer than the 65,536 between two polls of the
+// observer (the cells along that side were split to 10^-6 before: millions of visits, 340 ms
+// to sample for a mesh of 125 points), and the samples are as on the square alone.
+TEST(Mesher, AGradationsSamplesIgnoreTheFieldBeyondTheDomain) {
+    const Domain dom = build_domain(unit_square());
+    DensitySpec spec = density_of("x > 1 ? 0.000001 : 0.1");
+    spec.gradation = 1.5;
+    SizeField rho(spec, dom);
+    const Discretisation d = discretise_boundary(dom, rho);
+    struct Polls : Observer {
+        int polls = 0;
+        bool should_stop() override {
+            ++polls;
+            return false;
+        }
+    } polls;
+    const size_t bytes = set_gradation_sources(rho, d, triangulate_boundary(d), kMaxPointsLimit, &polls);
+    EXPECT_EQ(polls.polls, 0);
+    const double interior = static_cast<double>(bytes / 96 - d.size());
+    EXPECT_GE(interior, 1.0 / (0.1 * 0.1));
+    EXPECT_LE(interior, 4.0 / (0.1 * 0.1) + 4.0 * 4.0 / 0.1);  // four a size squared, and the sides' cells
+}
+
 TEST(Mesher, MinAngleRefinementGuaranteesTheBoundAwayFromInputCorners) {
     for (const Case& c : {square(), annulus(), plate_with_holes(), naca("0012"), three_element()}) {
         const Domain dom = build_domain(c.domain);
