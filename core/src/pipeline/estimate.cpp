@@ -155,6 +155,7 @@ void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& r
     for (const Triangle& t : walls.triangles) {
         const Vec2 v[3] = {pts[t.v[0]], pts[t.v[1]], pts[t.v[2]]};
         const double rv[3] = {at_point(t.v[0]), at_point(t.v[1]), at_point(t.v[2])};
+        const double side_length[3] = {distance(v[0], v[1]), distance(v[1], v[2]), distance(v[2], v[0])};
         Box tb;
         for (const Vec2& p : v) tb.add(p);
         // The level whose cells are at least the triangle's extent: at most two a side meet it.
@@ -186,7 +187,7 @@ void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& r
             bool apart = false;
             for (int e = 0; e < 3 && !apart; ++e) {
                 const Vec2 a = v[e], b = v[(e + 1) % 3];
-                const double tol = 1e-12 * (distance(a, b) + cs) * (distance(a, b) + cs);
+                const double tol = 1e-12 * (side_length[e] + cs) * (side_length[e] + cs);
                 apart = true;
                 for (const Vec2& p : q) apart = apart && cross(b - a, p - a) < -tol;
             }
