@@ -9,6 +9,7 @@
 #include "boundary/boundary.hpp"
 #include "geometry/curve.hpp"
 #include "meshd/core/errors.hpp"
+#include "meshd/core/mesher.hpp"
 
 using namespace meshd::core;
 using namespace meshd::test;
@@ -200,6 +201,97 @@ TEST(Boundary, CoarseDensityAcrossANarrowGapIsReported) {
     spec.size = 0.005;  // fine enough: accepted
     SizeField fine(spec, dom);
     EXPECT_NO_THROW(discretise_boundary(dom, fine));
+}
+
+// A coarse curve's chords can break how the loops nest without crossing anything. The unit
+// circle as four chords (a density twice its radius: the shape cap's quarter turns) is the
+// square through (1, 0), (0, 1), (-1, 0), (0, -1), whose side x + y = 1 lies between the
+// circle and anything at x + y > 1 near (0.8, 0.3).
+namespace {
+
+DomainSpec unit_circle_with(std::vector<std::pair<std::string, Vec2>> points, std::vector<CurveSpec> curves) {
+    DomainSpec s;
+    s.points = {{"P", {1.0, 0.0}}};
+    s.points.insert(s.points.end(), points.begin(), points.end());
+    s.curves = {arc("outer", "P", "P", {0, 0})};
+    s.curves.insert(s.curves.end(), curves.begin(), curves.end());
+    s.loops = {loop({"outer"})};
+    return s;
+}
+
+// The kind and the two curves named of what discretise_boundary refuses, or "accepted".
+std::string refusal(const Domain& dom, double size) {
+    DensitySpec spec;
+    spec.size = size;
+    SizeField rho(spec, dom);
+    try {
+        discretise_boundary(dom, rho);
+    } catch (const GeometryError& e) {
+        std::string r = e.kind() == GeometryErrorKind::DiscretisationCrosses ? "crosses" : "other";
+        for (const Subject& s : e.subjects()) r += " " + s.name;
+        return r;
+    }
+    return "accepted";
+}
+
+}  // namespace
+
+TEST(Boundary, AChordThatLeavesAHoleOutsideTheDomainIsReported) {
+    // A hole of radius 0.05 about (0.8, 0.3): x + y >= 1.1 - 0.05 sqrt 2 > 1 on it, inside the
+    // circle (0.854 + 0.05 < 1).
+    DomainSpec s = unit_circle_with({{"H", {0.85, 0.3}}}, {arc("hole", "H", "H", {0.8, 0.3})});
+    s.loops.push_back(loop({"hole"}));
+    const Domain dom = build_domain(s);
+    EXPECT_EQ(refusal(dom, 2.0), "crosses outer hole");
+    EXPECT_EQ(refusal(dom, 0.05), "accepted");
+}
+
+TEST(Boundary, AChordThatLeavesAnEmbeddedCurveOutsideTheDomainIsReported) {
+    // From (0.8, 0.3) to (0.8, 0.35): x + y > 1 all along, inside the circle.
+    DomainSpec s = unit_circle_with({{"E0", {0.8, 0.3}}, {"E1", {0.8, 0.35}}}, {line("fin", "E0", "E1")});
+    s.embedded = {"fin"};
+    const Domain dom = build_domain(s);
+    EXPECT_EQ(refusal(dom, 2.0), "crosses outer fin");
+    EXPECT_EQ(refusal(dom, 0.05), "accepted");
+}
+
+TEST(Boundary, AConcaveChordThatTakesAHoleIntoAnotherIsReported) {
+    // A hole: the rectangle [-0.5, 0.5] x [-0.2, 0.2] with its top bent down, an arc about
+    // (0, 1.2) through (+-0.5, 0.2) that dips to y = 1.2 - sqrt(1.25) = 0.082. As one chord
+    // (its 53 degrees are within the shape cap) the top is y = 0.2 again, and the small hole
+    // about (0, 0.15), above the arc, falls inside the rectangle.
+    DomainSpec s;
+    s.points = {{"A", {-2, -2}}, {"B", {2, -2}}, {"C", {2, 2}}, {"D", {-2, 2}},
+                {"E", {-0.5, -0.2}}, {"F", {0.5, -0.2}}, {"G", {0.5, 0.2}}, {"H", {-0.5, 0.2}}, {"K", {0.02, 0.15}}};
+    s.curves = {line("s1", "A", "B"), line("s2", "B", "C"), line("s3", "C", "D"), line("s4", "D", "A"),
+                line("base", "E", "F"), line("right", "F", "G"), arc("cap", "G", "H", {0, 1.2}, ArcDirection::Cw),
+                line("left", "H", "E"), arc("dot", "K", "K", {0, 0.15})};
+    s.loops = {loop({"s1", "s2", "s3", "s4"}), loop({"base", "right", "cap", "left"}), loop({"dot"})};
+    const Domain dom = build_domain(s);
+    EXPECT_EQ(refusal(dom, 2.0), "crosses cap dot");
+    EXPECT_EQ(refusal(dom, 0.02), "accepted");
+}
+
+// Found by fuzz/fuzz_request (crash 83a027ff): the far field of this request in four chords
+// (a circle of radius 9.2 about (0.5, 7), 7.0 from the wing) passed below the wing and left
+// it outside the domain, and the triangulation's flood fill stopped on an internal check (a
+// 500). Now a 422 naming both curves.
+TEST(Boundary, AFarFieldWhoseChordsCutTheWingOffIsRefusedNamingBoth) {
+    DomainSpec s = naca_in_circle("0006");
+    s.points = {{"F", {6.5, 0.0}}};
+    s.curves[1] = arc("farfield", "F", "F", {0.5, 7.0}, ArcDirection::Ccw, "farfield");
+    DensitySpec spec;
+    spec.curves = {{"farfield", std::string("2.4*sqrt(x^2+y^2)+0.2")}, {"wing", std::string("0.05*sqrt((x+1.01)^2+y^2)")}};
+    spec.interior = InteriorMode::Interpolate;
+    try {
+        generate_mesh(build_domain(s), spec, MeshOptions{});
+        ADD_FAILURE() << "meshed";
+    } catch (const GeometryError& e) {
+        EXPECT_EQ(e.kind(), GeometryErrorKind::DiscretisationCrosses) << e.what();
+        ASSERT_EQ(e.subjects().size(), 2u);
+        EXPECT_EQ(e.subjects()[0].name, "farfield");
+        EXPECT_EQ(e.subjects()[1].name, "wing");
+    }
 }
 
 TEST(Boundary, PointLimitAndCancellation) {

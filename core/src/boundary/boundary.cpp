@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "geometry/curve.hpp"
+#include "geometry/nesting.hpp"
 #include "kernel/constructions.hpp"
 #include "kernel/crossings.hpp"
 #include "kernel/tolerances.hpp"
@@ -216,6 +218,65 @@ private:
     size_t stations_left_ = opt_.max_points ? 4 * opt_.max_points + 64 : size_t{1} << 31;
 };
 
+// The name of the curve of loop li's segment nearest to p (loop segments are in loop order,
+// each loop's as many as its points).
+const std::string& nearest_curve_of_loop(const Domain& domain, const Discretisation& d, size_t li, Vec2 p) {
+    size_t first = 0;
+    for (size_t k = 0; k < li; ++k) first += d.loops[k].size();
+    size_t best = first;
+    double best_d2 = HUGE_VAL;
+    for (size_t i = first; i < first + d.loops[li].size(); ++i) {
+        const Vec2 a = d.point(d.segments[i].a), b = d.point(d.segments[i].b), ab = b - a;
+        const double t = dot(ab, ab) > 0.0 ? std::clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0) : 0.0;
+        const double d2 = norm2(a + t * ab - p);
+        if (d2 < best_d2) {
+            best_d2 = d2;
+            best = i;
+        }
+    }
+    return domain.curves()[d.segments[best].curve].name;
+}
+
+// The discretised loops nest as the domain's do: every hole and embedded curve inside the
+// outer loop and in no hole. Chords that cross nothing can still break that: the chords of a
+// far field spaced at several times its distance from an airfoil passed on the airfoil's far
+// side and left it outside the domain, whole (found by fuzz/fuzz_request, crash 83a027ff),
+// and a concave curve's chords bulge past it. Each loop and embedded curve is probed at the
+// middle of its first segment, which lies on no other polygon (none crosses or touches
+// another: checked before).
+void check_nesting(const Domain& domain, const Discretisation& d) {
+    if (d.loops.size() < 2 && d.embedded.empty()) return;
+    std::vector<std::vector<Vec2>> rings(d.loops.size());
+    size_t outer = 0;
+    for (size_t li = 0; li < d.loops.size(); ++li) {
+        for (const VertexId v : d.loops[li]) rings[li].push_back(d.point(v));
+        if (!domain.loops()[li].hole) outer = li;
+    }
+    detail::LoopNesting nesting(rings, outer);
+    auto refuse = [&](size_t by_loop, Vec2 probe, const std::string& left, const char* verb, const char* where) {
+        const std::string& by = nearest_curve_of_loop(domain, d, by_loop, probe);
+        throw GeometryError(GeometryErrorKind::DiscretisationCrosses,
+                            "the discretised curve \"" + by + "\" " + verb + " \"" + left + "\" " + where + " near (" +
+                                std::to_string(probe.x) + ", " + std::to_string(probe.y) +
+                                "): the density is too coarse for the gap between them",
+                            {Subject::curve(by), Subject::curve(left)});
+    };
+    auto check = [&](Vec2 probe, size_t own_loop, const std::string& name) {
+        if (!nesting.inside_outer(probe)) refuse(outer, probe, name, "leaves", "outside the domain");
+        if (const auto h = nesting.hole_holding(probe, own_loop)) refuse(*h, probe, name, "takes", "into its hole");
+    };
+    for (size_t li = 0; li < d.loops.size(); ++li) {
+        if (li == outer) continue;
+        check(0.5 * (rings[li][0] + rings[li][1]), li,
+              domain.curves()[domain.loops()[li].items.front().curve].name);
+    }
+    for (size_t e = 0; e < d.embedded.size(); ++e) {
+        const std::vector<VertexId>& chain = d.embedded[e];
+        if (chain.size() < 2) continue;
+        check(0.5 * (d.point(chain[0]) + d.point(chain[1])), outer, domain.curves()[domain.embedded()[e]].name);
+    }
+}
+
 }  // namespace
 
 void link_loops(const Domain& domain, Discretisation& d) {
@@ -307,6 +368,7 @@ Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
                                 {Subject::curve(name)});
         }
     }
+    check_nesting(domain, d);
     if (observer) observer->on_progress(Stage::Boundary, 1.0);
     return std::move(b).finish();
 }

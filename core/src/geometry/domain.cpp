@@ -16,6 +16,7 @@
 #include <unordered_map>
 
 #include "geometry/curve.hpp"
+#include "geometry/nesting.hpp"
 #include "kernel/crossings.hpp"
 #include "meshd/core/errors.hpp"
 #include "kernel/predicates.hpp"
@@ -173,74 +174,6 @@ double signed_area(const std::vector<Vec2>& ring) {
     for (size_t i = 0, n = ring.size(); i < n; ++i) a += cross(ring[i], ring[(i + 1) % n]);
     return 0.5 * a;
 }
-
-// Winding numbers of points around one closed polygon (non-zero: inside), with the exact
-// orientation predicate. The edges are bucketed by horizontal bands, so that a point meets
-// only the edges of its band: build_domain asks about every hole against the outer loop, and
-// a plain scan would cost holes x edges. The band count is cut back until the edges, each
-// listed in every band its y-range spans, fill at most 16 entries per edge.
-class RingIndex {
-public:
-    explicit RingIndex(const std::vector<Vec2>& ring) : ring_(ring) {
-        const size_t n = ring.size();
-        lo_ = HUGE_VAL;
-        hi_ = -HUGE_VAL;
-        for (Vec2 p : ring) lo_ = std::fmin(lo_, p.y), hi_ = std::fmax(hi_, p.y);
-        size_t bands = std::max<size_t>(1, n / 4);
-        for (;; bands = std::max<size_t>(1, bands / 2)) {
-            inv_ = hi_ > lo_ ? static_cast<double>(bands) / (hi_ - lo_) : 0.0;
-            bands_ = bands;
-            size_t entries = 0;
-            for (size_t i = 0; i < n; ++i) {
-                const auto [b0, b1] = span(ring[i].y, ring[(i + 1) % n].y);
-                entries += b1 - b0 + 1;
-            }
-            if (entries <= 16 * n + 16 || bands == 1) break;
-        }
-        start_.assign(bands_ + 1, 0);
-        for (size_t i = 0; i < n; ++i) {
-            const auto [b0, b1] = span(ring[i].y, ring[(i + 1) % n].y);
-            for (size_t b = b0; b <= b1; ++b) ++start_[b + 1];
-        }
-        for (size_t b = 0; b < bands_; ++b) start_[b + 1] += start_[b];
-        edges_.resize(start_.back());
-        std::vector<size_t> fill(start_.begin(), start_.end() - 1);
-        for (size_t i = 0; i < n; ++i) {
-            const auto [b0, b1] = span(ring[i].y, ring[(i + 1) % n].y);
-            for (size_t b = b0; b <= b1; ++b) edges_[fill[b]++] = static_cast<std::uint32_t>(i);
-        }
-    }
-
-    int winding(Vec2 p) const {
-        if (!(p.y >= lo_ && p.y <= hi_)) return 0;  // above or below every edge
-        const size_t b = band(p.y);
-        int w = 0;
-        const size_t n = ring_.size();
-        for (size_t k = start_[b]; k < start_[b + 1]; ++k) {
-            const Vec2 a = ring_[edges_[k]], c = ring_[(edges_[k] + 1) % n];
-            if (a.y <= p.y) {
-                if (c.y > p.y && orient2d(a, c, p) == Orientation::Left) ++w;
-            } else if (c.y <= p.y && orient2d(a, c, p) == Orientation::Right) {
-                --w;
-            }
-        }
-        return w;
-    }
-
-private:
-    size_t band(double y) const {
-        const double f = std::floor((y - lo_) * inv_);
-        if (!(f > 0.0)) return 0;
-        return std::min(static_cast<size_t>(std::fmin(f, 1e18)), bands_ - 1);
-    }
-    std::pair<size_t, size_t> span(double y0, double y1) const { return {band(std::fmin(y0, y1)), band(std::fmax(y0, y1))}; }
-
-    const std::vector<Vec2>& ring_;
-    double lo_, hi_, inv_ = 0.0;
-    size_t bands_ = 1;
-    std::vector<size_t> start_;
-    std::vector<std::uint32_t> edges_;
-};
 
 Box box_of(const std::vector<Vec2>& pts) {
     Box b;
@@ -752,50 +685,21 @@ Domain build_domain(const DomainSpec& spec, Observer* observer) {
     size_t outer = 0;
     for (size_t li = 1; li < loops.size(); ++li)
         if (std::fabs(loops[li].area) > std::fabs(loops[outer].area)) outer = li;
-    std::vector<Box> boxes(loops.size());
-    for (size_t li = 0; li < loops.size(); ++li) boxes[li] = box_of(rings[li]);
-    // Point-in-loop tests, each loop indexed when first asked about.
-    std::vector<std::unique_ptr<RingIndex>> ring_index(loops.size());
-    auto winding = [&](size_t li, Vec2 p) {
-        if (!ring_index[li]) ring_index[li] = std::make_unique<RingIndex>(rings[li]);
-        return ring_index[li]->winding(p);
-    };
+    detail::LoopNesting nesting(rings, outer);
     for (size_t li = 0; li < loops.size(); ++li) {
         if (li == outer) continue;
         poll();
-        const Vec2 probe = rings[li].front();
-        if (!boxes[outer].contains(probe) || winding(outer, probe) == 0)
+        if (!nesting.inside_outer(rings[li].front()))
             throw GeometryError(K::HoleOutside,
                                 "loop " + std::to_string(li) + " is not inside the outer loop (loop " +
                                     std::to_string(outer) + ", the largest)",
                                 {Subject::loop(static_cast<int>(li))});
     }
-    // The holes whose box holds a point: the boxes go into the size-class grid (each as the
-    // segment along its diagonal), where a point meets one cell per class.
-    std::vector<size_t> holes;
-    detail::SegmentSoup box_soup;
-    for (size_t li = 0; li < loops.size(); ++li) {
-        if (li == outer) continue;
-        const auto k = static_cast<std::uint32_t>(box_soup.points.size());
-        box_soup.points.push_back(boxes[li].lo);
-        box_soup.points.push_back(boxes[li].hi);
-        box_soup.segments.push_back({k, k + 1});
-        holes.push_back(li);
-    }
-    const detail::SegmentGrid box_grid(box_soup, 0.0);
-    // The hole holding p other than `except` (a loop index), if any.
-    auto hole_holding = [&](Vec2 p, size_t except) {
-        std::optional<size_t> found;
-        box_grid.near(p, [&](std::uint32_t i) {
-            const size_t b = holes[i];
-            if (!found && b != except && boxes[b].contains(p) && winding(b, p) != 0) found = b;
-        });
-        return found;
-    };
     // Holes apart: no hole inside another.
-    for (const size_t a : holes) {
+    for (size_t a = 0; a < loops.size(); ++a) {
+        if (a == outer) continue;
         poll();
-        if (const auto b = hole_holding(rings[a].front(), a))
+        if (const auto b = nesting.hole_holding(rings[a].front(), a))
             throw GeometryError(K::HolesOverlap,
                                 "hole loop " + std::to_string(a) + " lies inside hole loop " + std::to_string(*b),
                                 {Subject::loop(static_cast<int>(a)), Subject::loop(static_cast<int>(*b))});
@@ -805,7 +709,7 @@ Domain build_domain(const DomainSpec& spec, Observer* observer) {
         poll();
         const auto& f = flat[d.embedded_[ei]].points;
         const Vec2 probe = f.size() > 2 ? f[f.size() / 2] : 0.5 * (f.front() + f.back());
-        if (winding(outer, probe) == 0 || hole_holding(probe, outer))
+        if (!nesting.inside_outer(probe) || nesting.hole_holding(probe, outer))
             throw GeometryError(K::EmbeddedOutside,
                                 "embedded curve " + quoted(d.curves_[d.embedded_[ei]].name) +
                                     " lies outside the domain",
