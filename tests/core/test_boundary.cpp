@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <set>
+#include <algorithm>
 
 #include "fixtures.hpp"
 #include "boundary/boundary.hpp"
@@ -244,6 +246,20 @@ TEST(Boundary, AChordThatLeavesAHoleOutsideTheDomainIsReported) {
     const Domain dom = build_domain(s);
     EXPECT_EQ(refusal(dom, 2.0), "crosses outer hole");
     EXPECT_EQ(refusal(dom, 0.05), "accepted");
+    // The chord to space finer is the square's side from (1, 0) to (0, 1): its middle, half
+    // its length.
+    DensitySpec coarse;
+    coarse.size = 2.0;
+    SizeField rho(coarse, dom);
+    try {
+        discretise_boundary(dom, rho);
+        ADD_FAILURE() << "accepted";
+    } catch (const CoarseChords& e) {
+        ASSERT_EQ(e.finer().points.size(), 1u);
+        EXPECT_NEAR(e.finer().points[0].x, 0.5, 1e-6);  // the arc length's quarters, to its tolerance
+        EXPECT_NEAR(e.finer().points[0].y, 0.5, 1e-6);
+        EXPECT_NEAR(e.finer().sizes[0], std::sqrt(0.5), 1e-6);
+    }
 }
 
 TEST(Boundary, AChordThatLeavesAnEmbeddedCurveOutsideTheDomainIsReported) {
@@ -272,26 +288,61 @@ TEST(Boundary, AConcaveChordThatTakesAHoleIntoAnotherIsReported) {
     EXPECT_EQ(refusal(dom, 0.02), "accepted");
 }
 
+namespace {
+
+// V - E + F of a mesh, E counted from the triangles (every inner edge twice, the others once).
+long euler_characteristic(const Mesh& m) {
+    size_t open = 0;
+    for (const Triangle& t : m.triangles)
+        for (const TriangleId n : t.n) open += n == kNoTriangle ? 1 : 0;
+    const size_t edges = (3 * m.triangles.size() + open) / 2;
+    return static_cast<long>(m.point_count()) - static_cast<long>(edges) + static_cast<long>(m.triangles.size());
+}
+
+// Every segment of the boundary is an edge of a triangle of the mesh.
+bool boundary_segments_are_edges(const Mesh& m) {
+    std::set<std::pair<VertexId, VertexId>> edges;
+    for (const Triangle& t : m.triangles)
+        for (int i = 0; i < 3; ++i) edges.insert(std::minmax(t.v[i], t.v[(i + 1) % 3]));
+    return std::all_of(m.edges.begin(), m.edges.end(), [&](const MeshEdge& e) { return edges.count(std::minmax(e.a, e.b)) > 0; });
+}
+
+}  // namespace
+
 // Found by fuzz/fuzz_request (crash 83a027ff): the far field of this request in four chords
-// (a circle of radius 9.2 about (0.5, 7), 7.0 from the wing) passed below the wing and left
-// it outside the domain, and the triangulation's flood fill stopped on an internal check (a
-// 500). Now a 422 naming both curves.
-TEST(Boundary, AFarFieldWhoseChordsCutTheWingOffIsRefusedNamingBoth) {
+// (a circle of radius 9.2 about (0.5, 7), 7.0 from the wing, whose chords are 6.5 from the
+// centre) passed below the wing and left it outside the domain, and the triangulation's flood
+// fill stopped on an internal check (a 500). The mesher spaces the far field finer where its
+// chord passed and meshes the domain asked for: one hole, the wing's segments edges of it.
+TEST(Boundary, AFarFieldWhoseChordsWouldCutTheWingOffIsSpacedFinerThere) {
     DomainSpec s = naca_in_circle("0006");
     s.points = {{"F", {6.5, 0.0}}};
     s.curves[1] = arc("farfield", "F", "F", {0.5, 7.0}, ArcDirection::Ccw, "farfield");
+    const Domain dom = build_domain(s);
     DensitySpec spec;
     spec.curves = {{"farfield", std::string("2.4*sqrt(x^2+y^2)+0.2")}, {"wing", std::string("0.05*sqrt((x+1.01)^2+y^2)")}};
     spec.interior = InteriorMode::Interpolate;
-    try {
-        generate_mesh(build_domain(s), spec, MeshOptions{});
-        ADD_FAILURE() << "meshed";
-    } catch (const GeometryError& e) {
-        EXPECT_EQ(e.kind(), GeometryErrorKind::DiscretisationCrosses) << e.what();
-        ASSERT_EQ(e.subjects().size(), 2u);
-        EXPECT_EQ(e.subjects()[0].name, "farfield");
-        EXPECT_EQ(e.subjects()[1].name, "wing");
-    }
+    SizeField rho(spec, dom);
+    EXPECT_THROW(discretise_boundary(dom, rho), CoarseChords);
+    const MeshResult r = generate_mesh(dom, spec, MeshOptions{});
+    EXPECT_TRUE(check_mesh(r.mesh).empty());
+    EXPECT_EQ(euler_characteristic(r.mesh), 0);  // 1 - holes
+    EXPECT_TRUE(boundary_segments_are_edges(r.mesh));
+    EXPECT_GE(r.quality.angle_min, 30.0);
+}
+
+// The narrow annulus of CoarseDensityAcrossANarrowGapIsReported, through the mesher: the
+// crossing chords are spaced finer (every crossing pair at once) until none crosses.
+TEST(Boundary, ChordsThatWouldCrossAcrossANarrowGapAreSpacedFinerThere) {
+    DomainSpec s;
+    s.points = {{"P", {1.02, 0}}, {"Q", {1.0, 0}}};
+    s.curves = {arc("outer", "P", "P", {0, 0}), arc("inner", "Q", "Q", {0, 0})};
+    s.loops = {loop({"outer"}), loop({"inner"})};
+    const MeshResult r = generate_mesh(build_domain(s), density_of("0.6"), MeshOptions{});
+    EXPECT_TRUE(check_mesh(r.mesh).empty());
+    EXPECT_EQ(euler_characteristic(r.mesh), 0);
+    EXPECT_TRUE(boundary_segments_are_edges(r.mesh));
+    EXPECT_GE(r.quality.angle_min, 30.0);
 }
 
 TEST(Boundary, PointLimitAndCancellation) {

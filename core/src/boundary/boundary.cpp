@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "geometry/curve.hpp"
@@ -218,9 +219,9 @@ private:
     size_t stations_left_ = opt_.max_points ? 4 * opt_.max_points + 64 : size_t{1} << 31;
 };
 
-// The name of the curve of loop li's segment nearest to p (loop segments are in loop order,
-// each loop's as many as its points).
-const std::string& nearest_curve_of_loop(const Domain& domain, const Discretisation& d, size_t li, Vec2 p) {
+// The segment of loop li nearest to p (loop segments are in loop order, each loop's as many
+// as its points).
+size_t nearest_segment_of_loop(const Discretisation& d, size_t li, Vec2 p) {
     size_t first = 0;
     for (size_t k = 0; k < li; ++k) first += d.loops[k].size();
     size_t best = first;
@@ -234,7 +235,13 @@ const std::string& nearest_curve_of_loop(const Domain& domain, const Discretisat
             best = i;
         }
     }
-    return domain.curves()[d.segments[best].curve].name;
+    return best;
+}
+
+// The middle of a chord and half its length, added to caps (CoarseChords::finer).
+void add_finer(const Discretisation& d, const BoundarySegment& chord, SizeCaps& caps) {
+    caps.points.push_back(0.5 * (d.point(chord.a) + d.point(chord.b)));
+    caps.sizes.push_back(0.5 * distance(d.point(chord.a), d.point(chord.b)));
 }
 
 // The discretised loops nest as the domain's do: every hole and embedded curve inside the
@@ -243,7 +250,8 @@ const std::string& nearest_curve_of_loop(const Domain& domain, const Discretisat
 // side and left it outside the domain, whole (found by fuzz/fuzz_request, crash 83a027ff),
 // and a concave curve's chords bulge past it. Each loop and embedded curve is probed at the
 // middle of its first segment, which lies on no other polygon (none crosses or touches
-// another: checked before).
+// another: checked before). Throws CoarseChords naming the first fault, with the chord
+// nearest each probe that failed.
 void check_nesting(const Domain& domain, const Discretisation& d) {
     if (d.loops.size() < 2 && d.embedded.empty()) return;
     std::vector<std::vector<Vec2>> rings(d.loops.size());
@@ -253,17 +261,22 @@ void check_nesting(const Domain& domain, const Discretisation& d) {
         if (!domain.loops()[li].hole) outer = li;
     }
     detail::LoopNesting nesting(rings, outer);
-    auto refuse = [&](size_t by_loop, Vec2 probe, const std::string& left, const char* verb, const char* where) {
-        const std::string& by = nearest_curve_of_loop(domain, d, by_loop, probe);
-        throw GeometryError(GeometryErrorKind::DiscretisationCrosses,
-                            "the discretised curve \"" + by + "\" " + verb + " \"" + left + "\" " + where + " near (" +
-                                std::to_string(probe.x) + ", " + std::to_string(probe.y) +
-                                "): the density is too coarse for the gap between them",
-                            {Subject::curve(by), Subject::curve(left)});
+    std::string message;
+    std::vector<Subject> subjects;
+    SizeCaps finer;
+    auto fault = [&](size_t by_loop, Vec2 probe, const std::string& left, const char* verb, const char* where) {
+        const BoundarySegment& chord = d.segments[nearest_segment_of_loop(d, by_loop, probe)];
+        add_finer(d, chord, finer);
+        if (!message.empty()) return;
+        const std::string& by = domain.curves()[chord.curve].name;
+        message = "the discretised curve \"" + by + "\" " + verb + " \"" + left + "\" " + where + " near (" +
+                  std::to_string(probe.x) + ", " + std::to_string(probe.y) +
+                  "): the density is too coarse for the gap between them";
+        subjects = {Subject::curve(by), Subject::curve(left)};
     };
     auto check = [&](Vec2 probe, size_t own_loop, const std::string& name) {
-        if (!nesting.inside_outer(probe)) refuse(outer, probe, name, "leaves", "outside the domain");
-        if (const auto h = nesting.hole_holding(probe, own_loop)) refuse(*h, probe, name, "takes", "into its hole");
+        if (!nesting.inside_outer(probe)) fault(outer, probe, name, "leaves", "outside the domain");
+        else if (const auto h = nesting.hole_holding(probe, own_loop)) fault(*h, probe, name, "takes", "into its hole");
     };
     for (size_t li = 0; li < d.loops.size(); ++li) {
         if (li == outer) continue;
@@ -275,6 +288,7 @@ void check_nesting(const Domain& domain, const Discretisation& d) {
         if (chain.size() < 2) continue;
         check(0.5 * (d.point(chain[0]) + d.point(chain[1])), outer, domain.curves()[domain.embedded()[e]].name);
     }
+    if (!message.empty()) throw CoarseChords(std::move(message), std::move(subjects), std::move(finer));
 }
 
 }  // namespace
@@ -341,17 +355,27 @@ Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
     for (VertexId v = 0; v < d.size(); ++v) soup.points.push_back(d.point(v));
     soup.segments.reserve(d.segments.size());
     for (const auto& s : d.segments) soup.segments.push_back({s.a, s.b});
-    if (auto hit = detail::find_crossing(soup)) {
-        const auto& s1 = d.segments[hit->first];
-        const auto& s2 = d.segments[hit->second];
+    // Every crossing pair's chords go into the refusal's caps (each once), the first pair
+    // (the smallest indices) into its message.
+    std::optional<std::pair<std::uint32_t, std::uint32_t>> first;
+    std::vector<char> crossed(d.segments.size(), 0);
+    detail::for_each_crossing(soup, [&](std::uint32_t i, std::uint32_t j) {
+        if (!first || std::pair{i, j} < *first) first = std::pair{i, j};
+        crossed[i] = crossed[j] = 1;
+    });
+    if (first) {
+        const auto& s1 = d.segments[first->first];
+        const auto& s2 = d.segments[first->second];
         const std::string& n1 = domain.curves()[s1.curve].name;
         const std::string& n2 = domain.curves()[s2.curve].name;
         const Vec2 at = d.point(s1.a);
-        throw GeometryError(GeometryErrorKind::DiscretisationCrosses,
-                            "the discretised curves \"" + n1 + "\" and \"" + n2 +
-                                "\" cross near (" + std::to_string(at.x) + ", " + std::to_string(at.y) +
-                                "): the density is too coarse for the gap between them",
-                            {Subject::curve(n1), Subject::curve(n2)});
+        SizeCaps finer;
+        for (size_t i = 0; i < d.segments.size(); ++i)
+            if (crossed[i]) add_finer(d, d.segments[i], finer);
+        throw CoarseChords("the discretised curves \"" + n1 + "\" and \"" + n2 + "\" cross near (" +
+                               std::to_string(at.x) + ", " + std::to_string(at.y) +
+                               "): the density is too coarse for the gap between them",
+                           {Subject::curve(n1), Subject::curve(n2)}, std::move(finer));
     }
     // Simple polygons now; each must still run the way its loop does (outer counter-clockwise,
     // holes clockwise), or the triangulation would take the outside for the domain.

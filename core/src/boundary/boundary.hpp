@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "density/size_field.hpp"
@@ -80,8 +81,23 @@ struct KeptCurves {
     std::vector<bool> keep;  ///< per domain curve
 };
 
+/// discretise_boundary's refusal of chords that cross one another or leave a loop or an
+/// embedded curve out of the domain (or in a hole) where the curves do not: a density too
+/// coarse for the gap between two curves. Carries the middle of each offending chord with half
+/// its length, a cap of the curves' spacing there that the caller may try (generate_mesh does).
+class CoarseChords : public GeometryError {
+public:
+    CoarseChords(std::string message, std::vector<Subject> subjects, SizeCaps finer)
+        : GeometryError(GeometryErrorKind::DiscretisationCrosses, std::move(message), std::move(subjects)),
+          finer_(std::move(finer)) {}
+    const SizeCaps& finer() const { return finer_; }
+
+private:
+    SizeCaps finer_;
+};
+
 /// Throws GeometryError (density invalid on a curve, too many points, the discretised
-/// polygons crossing) or Cancelled. The curves `kept` marks are copied from its
+/// polygons running the wrong way), CoarseChords or Cancelled. The curves `kept` marks are copied from its
 /// discretisation, the same points as placing them again would give.
 Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
                                    const BoundaryOptions& options = {},

@@ -245,6 +245,31 @@ bool cap_closing_triangles(const Mesh& m, SizeCaps& closing) {
     return closing.points.size() > before;
 }
 
+/// Rounds of spacing curves finer where their chords cross or leave a loop out, at most: each
+/// halves the offending chords (their distance from the curve falls fourfold).
+constexpr int kChordRounds = 12;
+
+// discretise_boundary, with the curves spaced finer where its chords would cross one another
+// or leave a loop or an embedded curve out of the domain where the curves themselves do not
+// (CoarseChords): the density is a request for sizes, and a far field asked for at several
+// times its distance from an airfoil should still hold the airfoil. Each offending chord's
+// middle is capped at half its length, beside the caps so far (`caps`, which the curves'
+// agreement starts from), and the boundary placed again, kChordRounds times at most; then the
+// refusal stands (422, naming both curves).
+Discretisation discretise_mending_chords(const Domain& domain, SizeField& rho, const BoundaryOptions& bopt,
+                                         Observer* observer, SizeCaps& caps) {
+    for (int round = 0;; ++round) {
+        try {
+            return discretise_boundary(domain, rho, bopt, observer);
+        } catch (const CoarseChords& e) {
+            if (round == kChordRounds) throw;
+            caps.points.insert(caps.points.end(), e.finer().points.begin(), e.finer().points.end());
+            caps.sizes.insert(caps.sizes.end(), e.finer().sizes.begin(), e.finer().sizes.end());
+            rho.set_curve_cap(caps.points, caps.sizes, kAgreementCapRatio);
+        }
+    }
+}
+
 }  // namespace
 
 MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const MeshOptions& asked,
@@ -294,7 +319,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
         BoundaryOptions bopt;
         bopt.spline_spacing = options.spline_spacing;
         bopt.max_points = options.max_points;
-        Discretisation d = discretise_boundary(domain, rho, bopt, observer);
+        Discretisation d = discretise_mending_chords(domain, rho, bopt, observer, closing);
         if (rho.interpolates()) set_interpolation_sources(rho, d);
         BoundaryTriangulation walls = triangulate_boundary(d);
         size_t gradation_bytes = 0;  // the gradation's sources, held beside the points' peak
@@ -302,7 +327,7 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
             // Limit the growth of the field sampled from the first boundary, then place the
             // boundary points again along the limited field (and interpolate from those).
             gradation_bytes = set_gradation_sources(rho, d, walls, options.max_points, observer, r.stats.forecast_points);
-            d = discretise_boundary(domain, rho, bopt, observer);
+            d = discretise_mending_chords(domain, rho, bopt, observer, closing);
             if (rho.interpolates()) set_interpolation_sources(rho, d);
             walls = triangulate_boundary(d);
         }
