@@ -97,8 +97,8 @@ private:
 };
 
 /// Throws GeometryError (density invalid on a curve, too many points, the discretised
-/// polygons running the wrong way), CoarseChords or Cancelled. The curves `kept` marks are copied from its
-/// discretisation, the same points as placing them again would give.
+/// polygons running the wrong way), CoarseChords or Cancelled. The curves `kept` marks are
+/// copied from its discretisation, the same points as placing them again would give.
 Discretisation discretise_boundary(const Domain& domain, const SizeField& rho,
                                    const BoundaryOptions& options = {},
                                    Observer* observer = nullptr, const KeptCurves* kept = nullptr);
