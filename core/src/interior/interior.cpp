@@ -25,13 +25,13 @@ using detail::next3;
 using detail::prev3;
 
 // The points' grid holds copies of the coordinates and sizes (a proximity test reads one
-// chain entry and nothing else); the segments' grid holds front segment indices (copies
-// made its entries ten times larger and the stage twice slower). Both tests tell the points
-// A and B of the tested segment by their ids.
+// chain entry and nothing else), and is where the sizes are kept: each point is entered once,
+// in the order of the ids, so its entry is its id. The segments' grid holds front segment
+// indices (copies made its entries ten times larger and the stage twice slower). Both tests
+// tell the points A and B of the tested segment by their ids.
 struct GridPoint {
     Vec2 p;
     double rho;
-    std::uint32_t id;
 };
 constexpr std::uint32_t kNoPoint = UINT32_MAX;
 /// The front closes on a point its candidate came too close to (close_on) only where the
@@ -63,19 +63,29 @@ constexpr double kCells = 1.0;
 /// domain's extent is in class 1 all the same.
 constexpr double kMidpointMargin = 1.0 + 0x1p-20;
 
+// Eight bytes: the point ids are at most kMaxPointsLimit (2^28; the stage refuses more
+// points whatever its budget), and the flags take the bits above them (12 bytes a segment as
+// plain fields, two segments a point: 8 bytes a point less of fresh pages, which a large
+// mesh pays the host for).
 struct FrontSegment {
-    std::uint32_t a, b;
-    bool alive;
-    bool boundary;  // a segment of the discretised boundary (never split onto itself)
-    bool consumed = false;  // gave its point: the triangle of A, B and that point is on its left
+    FrontSegment(std::uint32_t from, std::uint32_t to, bool on_boundary)
+        : a(from & kIdBits), alive(1), boundary(on_boundary ? 1 : 0), b(to & kIdBits), consumed(0) {}
+    static constexpr std::uint32_t kIdBits = (std::uint32_t{1} << 30) - 1;
+    std::uint32_t a : 30, alive : 1;
+    std::uint32_t boundary : 1;  // a segment of the discretised boundary (never split onto itself)
+    std::uint32_t b : 31;
+    std::uint32_t consumed : 1;  // gave its point: the triangle of A, B and that point is on its left
 };
+static_assert(sizeof(FrontSegment) == 8);
+static_assert(kMaxPointsLimit < (std::uint32_t{1} << 30));
 
 class AdvancingFront {
 public:
     AdvancingFront(const Domain& domain, const Discretisation& d, const BoundaryTriangulation& walls,
                    const SizeField& rho, const InteriorOptions& opt, InteriorBudget budget, Observer* obs,
                    InteriorStats& stats)
-        : rho_(rho), opt_(opt), max_points_(budget.max_points), obs_(obs), stats_(stats),
+        : rho_(rho), opt_(opt), max_points_(budget.max_points && budget.max_points < kMaxPointsLimit ? budget.max_points : kMaxPointsLimit),
+          obs_(obs), stats_(stats),
           box_(domain.box()),
           classes_(domain.box().lo - Vec2{domain.extent(), domain.extent()}, domain.extent(), kCells),
           wall_points_(walls.points), wall_triangles_(walls.triangles),
@@ -88,7 +98,6 @@ public:
         size_t n = std::max(nb * 4, budget.expected_points + budget.expected_points / 8);
         if (max_points_) n = std::min(n, max_points_ + 1);
         detail::reserve_huge(pts_, n);
-        detail::reserve_huge(prho_, n);
         detail::reserve_huge(home_, n);
         detail::reserve_huge(front_, 2 * n);
         points_.reserve(n);
@@ -129,11 +138,10 @@ public:
 private:
     void add_point(Vec2 p, double r, TriangleId home) {
         pts_.push_back(p);
-        prho_.push_back(r);
         home_.push_back(home);
         const int k = classes_.class_of(r);
         largest_rho_[static_cast<size_t>(k)] = fmax_inline(largest_rho_[static_cast<size_t>(k)], r);
-        points_.push(k, classes_.ix(p.x, k), classes_.iy(p.y, k), GridPoint{p, r, static_cast<std::uint32_t>(pts_.size() - 1)});
+        points_.push(k, classes_.ix(p.x, k), classes_.iy(p.y, k), GridPoint{p, r});  // entry pts_.size() - 1
         if (max_points_ && pts_.size() > max_points_)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
                                 "the mesh needs more than " + std::to_string(max_points_) + " points");
@@ -149,7 +157,7 @@ private:
 
     void push_segment(std::uint32_t a, std::uint32_t b, bool boundary) {
         const auto id = static_cast<std::uint32_t>(front_.size());
-        front_.push_back({a, b, true, boundary});
+        front_.emplace_back(a, b, boundary);
         stack_.push_back(id);
         const Vec2 pa = pts_[a], pb = pts_[b];
         const int k = classes_.class_of(distance(pa, pb));
@@ -201,10 +209,10 @@ private:
         std::uint32_t found = kNoPoint;
         // The distance first: A and B are rarely within reach, and the ids are cheaper to
         // tell apart than the coordinates.
-        auto near = [&](const GridPoint& q) {
+        auto near = [&](const GridPoint& q, std::uint32_t id) {
             const double lim = opt_.proximity * 0.5 * (rc + q.rho);
-            if (!(norm2(q.p - c) < lim * lim) || q.id == a || q.id == b) return false;
-            found = q.id;
+            if (!(norm2(q.p - c) < lim * lim) || id == a || id == b) return false;
+            found = id;
             return true;
         };
         const int k = classes_.class_of(rc);
@@ -212,8 +220,8 @@ private:
             if (j < 1 || j > SizeClasses::kMax || !points_.has_class(j)) continue;
             // The reach is (rc + the largest rho of class j so far) / 2.
             const double reach = opt_.proximity * 0.5 * (rc + largest_rho_[static_cast<size_t>(j)]);
-            if (points_.any_in(j, classes_.ix(c.x - reach, j), classes_.ix(c.x + reach, j), classes_.iy(c.y - reach, j),
-                               classes_.iy(c.y + reach, j), near))
+            if (points_.any_entry_in(j, classes_.ix(c.x - reach, j), classes_.ix(c.x + reach, j), classes_.iy(c.y - reach, j),
+                                     classes_.iy(c.y + reach, j), near))
                 return found;
         }
         return kNoPoint;
@@ -349,7 +357,7 @@ private:
     void step(std::uint32_t s) {
         const FrontSegment seg = front_[s];
         const Vec2 a = pts_[seg.a], b = pts_[seg.b];
-        const double ra = prho_[seg.a], rb = prho_[seg.b];
+        const double ra = points_.item(seg.a).rho, rb = points_.item(seg.b).rho;
         Vec2 c;
         ++stats_.candidates;
         if (!candidate(a, b, ra, rb, seg.boundary, c)) {
@@ -432,7 +440,6 @@ private:
     Array<Triangle> wall_triangles_;
     detail::TriangleSoup walls_;
     Array<Vec2> pts_;
-    Array<double> prho_;
     Array<TriangleId> home_;
     size_t boundary_count_ = 0;
     Array<FrontSegment> front_;

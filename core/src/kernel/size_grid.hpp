@@ -84,9 +84,16 @@ public:
     /// block, until it returns true; returns whether it did. Retired items are not visited.
     template <class Visit>
     bool any_in(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Visit&& visit) const {
+        return any_entry_in(k, x0, x1, y0, y1, [&](const Item& item, std::uint32_t) { return visit(item); });
+    }
+    /// any_in(), visit(item, entry) also given the item's entry: the count of pushes before it
+    /// (a user that pushes each of its objects once, in the order of their ids, need not store
+    /// the id in the item).
+    template <class Visit>
+    bool any_entry_in(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Visit&& visit) const {
         return for_cells(*this, k, x0, x1, y0, y1, &Masks::live, [&](std::uint32_t b, size_t c) {
             for (std::uint32_t e = blocks_[b].head[c]; e != kNone; e = entries_[e].next)
-                if (visit(entries_[e].item)) return true;
+                if (visit(entries_[e].item, e)) return true;
             return false;
         });
     }
