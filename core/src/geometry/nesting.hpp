@@ -51,7 +51,6 @@ public:
     bool inside_outer(Vec2 p);
     /// A hole ring other than `except` that holds p, if any.
     std::optional<size_t> hole_holding(Vec2 p, size_t except);
-    const Box& box(size_t ring) const { return boxes_[ring]; }
 
 private:
     int winding(size_t ring, Vec2 p);

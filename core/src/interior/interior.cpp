@@ -96,7 +96,7 @@ public:
         // the segments' grid, and one entry per point in the points' grid.
         // A forecast far too large only reserves address space: untouched pages cost nothing.
         size_t n = std::max(nb * 4, budget.expected_points + budget.expected_points / 8);
-        if (max_points_) n = std::min(n, max_points_ + 1);
+        n = std::min(n, max_points_ + 1);
         detail::reserve_huge(pts_, n);
         detail::reserve_huge(home_, n);
         detail::reserve_huge(front_, 2 * n);
@@ -142,7 +142,7 @@ private:
         const int k = classes_.class_of(r);
         largest_rho_[static_cast<size_t>(k)] = fmax_inline(largest_rho_[static_cast<size_t>(k)], r);
         points_.push(k, classes_.ix(p.x, k), classes_.iy(p.y, k), GridPoint{p, r});  // entry pts_.size() - 1
-        if (max_points_ && pts_.size() > max_points_)
+        if (pts_.size() > max_points_)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
                                 "the mesh needs more than " + std::to_string(max_points_) + " points");
         if (pts_.size() > report_at_) {

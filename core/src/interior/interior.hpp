@@ -30,7 +30,8 @@ namespace meshd::core {
 /// The interior points (not including the boundary's), in the order they were made.
 /// `rho` must be ready for interior queries (set_interpolation_sources for eq. 6.1);
 /// `walls` is the constrained triangulation of `boundary` (triangulate_boundary). Refuses
-/// (TooManyPoints) beyond `max_points` points in all (0: no limit); `expected_points` (the
+/// (TooManyPoints) beyond `max_points` points in all (0, or above kMaxPointsLimit: that
+/// limit, which the front's packed ids need); `expected_points` (the
 /// admission forecast, 0: unknown) sizes the arrays once instead of growing them, and each
 /// time the points in all pass twice it, four times it and so on, the observer hears the
 /// count (Observer::on_forecast). Throws GeometryError (density invalid, too many points),
