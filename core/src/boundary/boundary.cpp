@@ -227,9 +227,7 @@ size_t nearest_segment_of_loop(const Discretisation& d, size_t li, Vec2 p) {
     size_t best = first;
     double best_d2 = HUGE_VAL;
     for (size_t i = first; i < first + d.loops[li].size(); ++i) {
-        const Vec2 a = d.point(d.segments[i].a), b = d.point(d.segments[i].b), ab = b - a;
-        const double t = dot(ab, ab) > 0.0 ? std::clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0) : 0.0;
-        const double d2 = norm2(a + t * ab - p);
+        const double d2 = norm2(nearest_on(d.point(d.segments[i].a), d.point(d.segments[i].b), p) - p);
         if (d2 < best_d2) {
             best_d2 = d2;
             best = i;

@@ -24,6 +24,15 @@ inline Vec2 circumcentre(Vec2 a, Vec2 b, Vec2 c) {
 /// places a point in wider ones.
 inline constexpr double kClosingAngleDeg = 31.0, kMinClosingDeg = 33.0, kMaxClosingDeg = 116.0;
 
+/// The point of segment ab nearest to p (a itself when the segment has no length).
+inline Vec2 nearest_on(Vec2 a, Vec2 b, Vec2 p) {
+    const Vec2 ab = b - a;
+    const double l2 = dot(ab, ab);
+    if (!(l2 > 0.0)) return a;
+    const double t = dot(p - a, ab) / l2;
+    return a + (t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t) * ab;
+}
+
 /// The angle between u and w (radians, 0 to pi).
 inline double angle_between(Vec2 u, Vec2 w) { return std::atan2(std::fabs(cross(u, w)), dot(u, w)); }
 

@@ -121,13 +121,6 @@ std::vector<CornerCap> corner_caps_for(const Discretisation& d, const std::vecto
 // are the two sides of one sharp corner, not two boundaries facing each other.
 constexpr double kWedgeDetour = 10.0;
 
-// The point of segment ab nearest to p.
-Vec2 nearest_on(Vec2 a, Vec2 b, Vec2 p) {
-    const Vec2 ab = b - a;
-    const double t = std::clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0);
-    return a + t * ab;
-}
-
 // Loop segments facing one another across the domain closer than their length over
 // kAgreementRatio (a hole almost touching the outer loop, two bodies close together): no
 // triangle across such a gap has fair angles unless both sides are spaced at about its width
