@@ -19,6 +19,10 @@ CC=clang-16 CXX=clang++-16 cmake -S . -B build-fuzz -G Ninja \
 cmake --build build-fuzz -j "$(nproc 2>/dev/null || echo 2)" --target $(printf 'fuzz_%s ' "${harnesses[@]}")
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+# Stacks with function names where an LLVM symbolizer is installed (without one, addresses).
+for s in /usr/lib/llvm-16/bin/llvm-symbolizer /usr/bin/llvm-symbolizer-16 /usr/bin/llvm-symbolizer; do
+  if [ -x "$s" ]; then export ASAN_SYMBOLIZER_PATH="$s"; break; fi
+done
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 for h in "${harnesses[@]}"; do
   mkdir -p "build-fuzz/corpus/$h"
@@ -36,6 +40,14 @@ for h in "${harnesses[@]}"; do
   findings=$(find build-fuzz -maxdepth 1 \( -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' \))
   if [ -n "$findings" ]; then
     echo "fuzz: $h found a problem: $findings" >&2
+    # A clean clone in CI keeps nothing after the run: the input goes into the log, base64
+    # (save it with `base64 -d`), with what the harness says when it runs it again.
+    for f in $findings; do
+      echo "fuzz: the input $f, base64:" >&2
+      base64 "$f" >&2
+      echo "fuzz: the harness on it again:" >&2
+      "build-fuzz/fuzz/fuzz_$h" "$f" 2>&1 | tail -n 60 >&2 || true
+    done
     exit 1
   fi
 done

@@ -444,7 +444,7 @@ private:
     size_t boundary_count_ = 0;
     Array<FrontSegment> front_;
     Array<std::uint32_t> stack_;
-    size_t closings_ = 0, closings_attempted_ = 0;
+    size_t closings_ = 0;
     size_t report_at_ = SIZE_MAX;  // the next count the observer hears of
     size_t extra_bytes_ = 0;       // InteriorBudget::extra_bytes
     std::uint64_t jumps_to_stop_ = 0, jumps_at_start_ = 0, candidates_at_start_ = 0;
