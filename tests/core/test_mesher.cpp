@@ -263,7 +263,7 @@ TEST(Mesher, AGradationsSamplesAreOneToFourInASquareOfTheLocalSize) {
     const Discretisation d = discretise_boundary(dom, rho);
     const size_t bytes = set_gradation_sources(rho, d, triangulate_boundary(d), kMaxPointsLimit);
     ASSERT_EQ(bytes % 96, 0u);
-    const double interior = static_cast<double>(bytes / 96 - d.size());
+    const double interior = static_cast<double>(bytes / kGradationBytesPerSource - d.size());
     // The airfoil's area is below 0.05 (a NACA 00xx encloses about 0.685 t c^2).
     const double area_hi = std::numbers::pi * radius * radius, area_lo = area_hi - 0.05;
     EXPECT_GE(interior, area_lo / (h * h));
@@ -291,7 +291,7 @@ TEST(Mesher, AGradationsSamplesIgnoreTheFieldBeyondTheDomain) {
     } polls;
     const size_t bytes = set_gradation_sources(rho, d, triangulate_boundary(d), kMaxPointsLimit, &polls);
     EXPECT_EQ(polls.polls, 0);
-    const double interior = static_cast<double>(bytes / 96 - d.size());
+    const double interior = static_cast<double>(bytes / kGradationBytesPerSource - d.size());
     EXPECT_GE(interior, 1.0 / (0.1 * 0.1));
     EXPECT_LE(interior, 4.0 / (0.1 * 0.1) + 4.0 * 4.0 / 0.1);  // four a size squared, and the sides' cells
 }

@@ -208,21 +208,29 @@ int incircle_tie(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::uint32_t ra, std::uint32_t
 PredicateCounters predicate_counters() { return counters; }
 void reset_predicate_counters() { counters = {}; }
 
+namespace {
+// r collinear with pq: within its box, so on the closed segment?
+bool in_box(Vec2 p, Vec2 q, Vec2 r) {
+    return fmin_inline(p.x, q.x) <= r.x && r.x <= fmax_inline(p.x, q.x) && fmin_inline(p.y, q.y) <= r.y &&
+           r.y <= fmax_inline(p.y, q.y);
+}
+}  // namespace
+
 bool segments_intersect(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
     const int o1 = static_cast<int>(orient2d(a, b, c));
     const int o2 = static_cast<int>(orient2d(a, b, d));
     const int o3 = static_cast<int>(orient2d(c, d, a));
     const int o4 = static_cast<int>(orient2d(c, d, b));
     if (o1 * o2 < 0 && o3 * o4 < 0) return true;
-    auto on_segment = [](Vec2 p, Vec2 q, Vec2 r) {  // r collinear with pq: within its box?
-        return fmin_inline(p.x, q.x) <= r.x && r.x <= fmax_inline(p.x, q.x) &&
-               fmin_inline(p.y, q.y) <= r.y && r.y <= fmax_inline(p.y, q.y);
-    };
-    if (o1 == 0 && on_segment(a, b, c)) return true;
-    if (o2 == 0 && on_segment(a, b, d)) return true;
-    if (o3 == 0 && on_segment(c, d, a)) return true;
-    if (o4 == 0 && on_segment(c, d, b)) return true;
+    if (o1 == 0 && in_box(a, b, c)) return true;
+    if (o2 == 0 && in_box(a, b, d)) return true;
+    if (o3 == 0 && in_box(c, d, a)) return true;
+    if (o4 == 0 && in_box(c, d, b)) return true;
     return false;
+}
+
+bool inside_segment(Vec2 a, Vec2 b, Vec2 p) {
+    return p != a && p != b && orient2d(a, b, p) == Orientation::Collinear && in_box(a, b, p);
 }
 
 }  // namespace meshd::core

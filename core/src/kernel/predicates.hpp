@@ -89,4 +89,9 @@ void reset_predicate_counters();
 /// True when the closed segments ab and cd have at least one point in common.
 bool segments_intersect(Vec2 a, Vec2 b, Vec2 c, Vec2 d);
 
+/// True when p lies on the segment ab and is neither end, exactly: collinear, and within
+/// the segment's box by comparisons (a length along ab in floating point cannot tell a
+/// point one unit in the last place short of b from b).
+bool inside_segment(Vec2 a, Vec2 b, Vec2 p);
+
 }  // namespace meshd::core

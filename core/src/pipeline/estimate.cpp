@@ -251,10 +251,6 @@ void refuse_too_many(double estimate, size_t limit) {
 }
 
 namespace {
-// The memory a gradation source takes while the sources are gathered and the field's tree is
-// built (the gathered arrays, grown by doubling, beside the field's copy and its nodes): an
-// upper bound of what it keeps.
-constexpr size_t kGradationBytesPerSource = 96;
 // The observer hears of the sources from this many on (then at each doubling, and once at the
 // end): fewer are within what the forecast's peak allows for.
 constexpr size_t kFirstSourcesReport = size_t{1} << 16;

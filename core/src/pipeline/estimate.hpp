@@ -50,6 +50,11 @@ double estimate_point_count(const Discretisation& boundary, const BoundaryTriang
 /// than `limit`.
 [[noreturn]] void refuse_too_many(double estimate, size_t limit);
 
+/// The memory a gradation source takes while the sources are gathered and the field's tree is
+/// built (the gathered arrays, grown by doubling, beside the field's copy and its nodes): an
+/// upper bound of what it keeps.
+inline constexpr size_t kGradationBytesPerSource = 96;
+
 /// Limits the growth of rho inside the domain to its gradation (density/gradation.hpp):
 /// samples the boundary points and the interior (the centres of square cells of one lattice,
 /// split while larger than the local size), then sets them as the gradation sources.
@@ -58,7 +63,8 @@ double estimate_point_count(const Discretisation& boundary, const BoundaryTriang
 /// The samples' memory stays with the field to the end of the run, beside the peak that
 /// `forecast_points` makes (peak_bytes_for): the observer hears the two together as the
 /// samples grow (Observer::on_forecast), from 2^16 samples and at each doubling after.
-/// Returns the bytes the samples take (for the interior stage's reports: InteriorBudget).
+/// Returns the bytes the samples take, kGradationBytesPerSource each (for the interior
+/// stage's reports: InteriorBudget).
 size_t set_gradation_sources(SizeField& rho, const Discretisation& boundary, const BoundaryTriangulation& walls,
                              size_t max_points, Observer* observer = nullptr, double forecast_points = 0.0);
 

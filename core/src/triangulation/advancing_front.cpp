@@ -1,7 +1,7 @@
 // The paper's triangulator (section 5, after Lo 1989): the Delaunay advancing front.
 //
 // The front starts as the loop segments (domain on their left) and the embedded segments
-// in both directions. For the last front edge AB, the candidates are the live points on its
+// in both directions, each split at the input points on it. For the last front edge AB, the candidates are the live points on its
 // left within a radius R of its midpoint (R starts at |AB|); among those visible from AB
 // (AC and BC cross no front edge) the one whose circle through A, B holds no other visible
 // candidate is C* (circles through A and B are nested on the left of AB, so one pass that
@@ -63,12 +63,13 @@ private:
 class DelaunayFront {
 public:
     DelaunayFront(std::span<const Vec2> pts, const std::vector<Constraint>& cons, Observer* obs)
-        : pts_(pts), cons_(cons), obs_(obs), tree_(pts), front_degree_(pts.size(), 0), touched_(pts.size(), 0) {
+        : pts_(pts), obs_(obs), tree_(pts), front_degree_(pts.size(), 0), touched_(pts.size(), 0) {
         Box box;
         for (const Vec2& p : pts) box.add(p);
         extent_ = std::fmax(box.diagonal(), 1e-300);
         classes_ = std::make_unique<SizeClasses>(box.lo - Vec2{extent_, extent_}, extent_);
-        for (const Constraint& c : cons) {
+        cons_ = split_at_points(cons);
+        for (const Constraint& c : cons_) {
             add_front(c.a, c.b);
             if (!c.loop) add_front(c.b, c.a);
         }
@@ -90,6 +91,43 @@ public:
     }
 
 private:
+    // A constraint through other input points becomes its pieces between them, as the
+    // incremental triangulator's recovery splits it. The points on a segment are in the disk
+    // over it (widened by the rounding of its centre and radius, so none is missed), tested
+    // exactly, and ordered from a to b by the coordinate that changes along the segment.
+    std::vector<Constraint> split_at_points(const std::vector<Constraint>& cons) const {
+        std::vector<Constraint> out;
+        out.reserve(cons.size());
+        std::vector<std::uint32_t> on;
+        for (const Constraint& c : cons) {
+            const Vec2 pa = pts_[c.a], pb = pts_[c.b];
+            const double scale = std::fmax(std::fmax(std::fabs(pa.x), std::fabs(pa.y)), std::fmax(std::fabs(pb.x), std::fabs(pb.y)));
+            const double r = 0.5 * distance(pa, pb) * (1.0 + 1e-12) + 8.0 * DBL_EPSILON * scale;
+            on.clear();
+            tree_.query(0.5 * (pa + pb), r, [&](std::uint32_t v) {
+                if (inside_segment(pa, pb, pts_[v])) on.push_back(v);
+            });
+            if (on.empty()) {
+                out.push_back(c);
+                continue;
+            }
+            const bool by_x = pa.x != pb.x;
+            const bool up = by_x ? pa.x < pb.x : pa.y < pb.y;
+            std::sort(on.begin(), on.end(), [&](std::uint32_t u, std::uint32_t w) {
+                const double su = by_x ? pts_[u].x : pts_[u].y, sw = by_x ? pts_[w].x : pts_[w].y;
+                return su != sw ? (su < sw) == up : u < w;
+            });
+            std::uint32_t from = c.a;
+            for (std::uint32_t v : on) {
+                if (pts_[v] == pts_[from]) continue;  // a repeated point: one piece ends there
+                out.push_back({from, v, c.loop});
+                from = v;
+            }
+            out.push_back({from, c.b, c.loop});
+        }
+        return out;
+    }
+
     struct FrontEdge {
         std::uint32_t a, b;
         bool alive;
@@ -280,7 +318,7 @@ private:
     }
 
     std::span<const Vec2> pts_;
-    const std::vector<Constraint>& cons_;
+    std::vector<Constraint> cons_;  // the input's, split at the points on them
     Observer* obs_;
     PointTree tree_;
     std::vector<std::uint32_t> front_degree_;
