@@ -7,6 +7,7 @@
 #include <numbers>
 #include <random>
 
+#include "meshd/core/errors.hpp"
 #include "meshd/core/mesh.hpp"
 #include "kernel/predicates.hpp"
 #include "triangulation/triangulation.hpp"
@@ -161,6 +162,24 @@ TEST(Triangulators, ConstraintThroughACollinearPointIsSplit) {
         expect_valid(m);
     }
     EXPECT_EQ(canonical(f.triangles), canonical(d.triangles));
+}
+
+// Two input points at (1, 1): the incremental triangulator keeps the one it inserted first
+// and names it as the other's alias; the advancing front, which the mesher only gives
+// distinct points, refuses them rather than meshing both.
+TEST(Triangulators, CoincidingPointsAreMergedOrRefused) {
+    const std::vector<Vec2> pts{{0, 0}, {2, 0}, {2, 2}, {0, 2}, {1, 1}, {1, 0.5}, {1, 1}};
+    const std::vector<std::vector<std::uint32_t>> loops{{0, 1, 2, 3}};
+    const std::vector<Constraint> cons = loop_constraints(loops);
+    const TriangulationResult d = triangulate_delaunay(pts, cons);
+    ASSERT_EQ(d.alias.size(), pts.size());
+    const bool four_kept = d.alias[6] == 4 && d.alias[4] == 4, six_kept = d.alias[4] == 6 && d.alias[6] == 6;
+    EXPECT_TRUE(four_kept != six_kept);
+    const std::uint32_t gone = four_kept ? 6 : 4;
+    for (const Triangle& t : d.triangles)
+        for (std::uint32_t v : t.v) EXPECT_NE(v, gone);
+    EXPECT_EQ(d.triangles.size(), 6u);  // 4 on the boundary, 2 distinct inside: b - 2 + 2 i
+    EXPECT_THROW(triangulate_advancing_front(pts, cons), InternalError);
 }
 
 // A loop's side through two points, given from its far end: split at both, in order along

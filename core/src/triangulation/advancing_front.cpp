@@ -68,6 +68,7 @@ public:
         for (const Vec2& p : pts) box.add(p);
         extent_ = std::fmax(box.diagonal(), 1e-300);
         classes_ = std::make_unique<SizeClasses>(box.lo - Vec2{extent_, extent_}, extent_);
+        require_distinct();
         cons_ = split_at_points(cons);
         for (const Constraint& c : cons_) {
             add_front(c.a, c.b);
@@ -91,6 +92,19 @@ public:
     }
 
 private:
+    // Coinciding points are not merged here (the incremental triangulator merges them into
+    // the one it inserted first; the mesher's points never coincide): refused.
+    void require_distinct() const {
+        std::vector<std::uint32_t> by(pts_.size());
+        std::iota(by.begin(), by.end(), 0u);
+        const auto less = [&](std::uint32_t u, std::uint32_t w) {
+            return pts_[u].x != pts_[w].x ? pts_[u].x < pts_[w].x : pts_[u].y < pts_[w].y;
+        };
+        std::sort(by.begin(), by.end(), less);
+        for (size_t i = 1; i < by.size(); ++i)
+            MESHD_INTERNAL_CHECK(pts_[by[i]] != pts_[by[i - 1]], "advancing front: two input points coincide");
+    }
+
     // A constraint through other input points becomes its pieces between them, as the
     // incremental triangulator's recovery splits it. The points on a segment are in the disk
     // over it (widened by the rounding of its centre and radius, so none is missed), tested
@@ -115,11 +129,10 @@ private:
             const bool up = by_x ? pa.x < pb.x : pa.y < pb.y;
             std::sort(on.begin(), on.end(), [&](std::uint32_t u, std::uint32_t w) {
                 const double su = by_x ? pts_[u].x : pts_[u].y, sw = by_x ? pts_[w].x : pts_[w].y;
-                return su != sw ? (su < sw) == up : u < w;
+                return up ? su < sw : su > sw;
             });
             std::uint32_t from = c.a;
             for (std::uint32_t v : on) {
-                if (pts_[v] == pts_[from]) continue;  // a repeated point: one piece ends there
                 out.push_back({from, v, c.loop});
                 from = v;
             }

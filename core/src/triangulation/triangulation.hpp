@@ -31,7 +31,7 @@ struct Constraint {
 /// there). Throws InternalError on a broken invariant. O(n log n) expected.
 struct TriangulationResult {
     Array<Triangle> triangles;
-    /// Points of the input that coincide with an earlier point are merged into it:
+    /// Points of the input that coincide are merged into the one of them inserted first:
     /// alias[i] = i for every kept point.
     Array<std::uint32_t> alias;
     TriangulationStats stats;
@@ -43,7 +43,8 @@ TriangulationResult triangulate_delaunay(std::span<const Vec2> points,
 /// The paper's triangulator (section 5, after Lo 1989): the Delaunay advancing front. For
 /// the last front edge AB, the visible point C on its left whose circle through A, B, C
 /// holds no other visible candidate forms ABC; the candidate search is local (a grid) and
-/// widens until a point is found. Gives the same triangles as triangulate_delaunay().
+/// widens until a point is found. Gives the same triangles as triangulate_delaunay(). Its
+/// points must be distinct (InternalError if two coincide; alias is the identity).
 TriangulationResult triangulate_advancing_front(std::span<const Vec2> points,
                                                 const std::vector<Constraint>& constraints,
                                                 Observer* observer = nullptr);
