@@ -1,15 +1,17 @@
 // The paper's triangulator (section 5, after Lo 1989): the Delaunay advancing front.
 //
 // The front starts as the loop segments (domain on their left) and the embedded segments
-// in both directions, each split at the input points on it. For the last front edge AB, the candidates are the live points on its
-// left within a radius R of its midpoint (R starts at |AB|); among those visible from AB
-// (AC and BC cross no front edge) the one whose circle through A, B holds no other visible
-// candidate is C* (circles through A and B are nested on the left of AB, so one pass that
-// replaces C* by any visible candidate inside its circle finds it). If that circle reaches
-// beyond the searched disk, R grows and the search repeats, so the choice is exact. ABC*
-// is formed; its edges close matching front edges or join the front. Decisions are exact
-// and use the same perturbed in-circle test as the incremental triangulator, so both give
-// the same triangles.
+// in both directions, each split at the input points on it. For the last front edge AB,
+// the candidates are the live points on its left within a radius R of its midpoint (R
+// starts at |AB|); among those visible from AB (AC and BC cross no front edge) the one
+// whose circle through A, B holds no other visible candidate is C*. Circles through A and
+// B are nested on the left of AB, so the smallest of all is C* when it is visible (nearly
+// always: the crossing test is asked once), and else one pass that replaces C* by any
+// visible candidate inside its circle finds it. If that circle reaches beyond the searched
+// disk, R grows and the search repeats, so the choice is exact. ABC* is formed; its edges
+// close matching front edges or join the front. Decisions are exact and use the same
+// perturbed in-circle test as the incremental triangulator, so both give the same
+// triangles.
 
 #include <algorithm>
 #include <cfloat>
@@ -249,14 +251,17 @@ private:
             tree_.query(mid, r, [&](std::uint32_t v) {
                 if (v != a && v != b && alive_point(v) && orient2d(pa, pb, pts_[v]) == Orientation::Left) cand.push_back(v);
             });
-            std::sort(cand.begin(), cand.end());
-            std::uint32_t best = UINT32_MAX;
-            for (std::uint32_t c : cand) {
-                if (best != UINT32_MAX &&
-                    incircle_perturbed(pa, pb, pts_[best], pts_[c], a, b, best, c) <= 0)
-                    continue;
-                if (blocked(a, c) || blocked(b, c)) continue;
-                best = c;
+            std::uint32_t best = smallest_circle(a, b, cand);
+            if (best != UINT32_MAX && (blocked(a, best) || blocked(b, best))) {
+                // Hidden: the smallest circle of the visible candidates, one pass that asks
+                // the crossing test only of a candidate inside the circle so far.
+                best = UINT32_MAX;
+                for (std::uint32_t c : cand) {
+                    if (best != UINT32_MAX && incircle_perturbed(pa, pb, pts_[best], pts_[c], a, b, best, c) <= 0)
+                        continue;
+                    if (blocked(a, c) || blocked(b, c)) continue;
+                    best = c;
+                }
             }
             // A disk this large holds every point: the search is complete.
             const bool everything = r >= 2.0 * extent_;
@@ -284,6 +289,18 @@ private:
             }
         }
         throw InternalError("advancing front: candidate search does not settle", __FILE__, __LINE__);
+    }
+
+    // The candidate whose circle through a and b holds no other: the circles on the left of
+    // ab are nested, and the perturbed in-circle test orders them strictly. Mostly it is also
+    // visible (then it is C*), and the crossing test, the search's dearest part, is asked of
+    // it alone.
+    std::uint32_t smallest_circle(std::uint32_t a, std::uint32_t b, const std::vector<std::uint32_t>& cand) const {
+        const Vec2 pa = pts_[a], pb = pts_[b];
+        std::uint32_t best = UINT32_MAX;
+        for (std::uint32_t c : cand)
+            if (best == UINT32_MAX || incircle_perturbed(pa, pb, pts_[best], pts_[c], a, b, best, c) > 0) best = c;
+        return best;
     }
 
     void form(std::uint32_t f, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
