@@ -251,18 +251,10 @@ private:
             tree_.query(mid, r, [&](std::uint32_t v) {
                 if (v != a && v != b && alive_point(v) && orient2d(pa, pb, pts_[v]) == Orientation::Left) cand.push_back(v);
             });
-            std::uint32_t best = smallest_circle(a, b, cand);
-            if (best != UINT32_MAX && (blocked(a, best) || blocked(b, best))) {
-                // Hidden: the smallest circle of the visible candidates, one pass that asks
-                // the crossing test only of a candidate inside the circle so far.
-                best = UINT32_MAX;
-                for (std::uint32_t c : cand) {
-                    if (best != UINT32_MAX && incircle_perturbed(pa, pb, pts_[best], pts_[c], a, b, best, c) <= 0)
-                        continue;
-                    if (blocked(a, c) || blocked(b, c)) continue;
-                    best = c;
-                }
-            }
+            const auto visible = [&](std::uint32_t c) { return !blocked(a, c) && !blocked(b, c); };
+            std::uint32_t best = smallest_circle(a, b, cand, [](std::uint32_t) { return true; });
+            // Hidden: the smallest circle of the visible candidates.
+            if (best != UINT32_MAX && !visible(best)) best = smallest_circle(a, b, cand, visible);
             // A disk this large holds every point: the search is complete.
             const bool everything = r >= 2.0 * extent_;
             if (best != UINT32_MAX) {
@@ -291,15 +283,18 @@ private:
         throw InternalError("advancing front: candidate search does not settle", __FILE__, __LINE__);
     }
 
-    // The candidate whose circle through a and b holds no other: the circles on the left of
-    // ab are nested, and the perturbed in-circle test orders them strictly. Mostly it is also
-    // visible (then it is C*), and the crossing test, the search's dearest part, is asked of
-    // it alone.
-    std::uint32_t smallest_circle(std::uint32_t a, std::uint32_t b, const std::vector<std::uint32_t>& cand) const {
+    // Of the candidates that `keep` accepts, the one whose circle through a and b holds no
+    // other (UINT32_MAX: none). The circles on the left of ab are nested, and the perturbed
+    // in-circle test orders them strictly, so one pass that takes any kept candidate inside
+    // the circle so far finds it, asking `keep` (the crossing test, the search's dearest part)
+    // only of those.
+    template <class Keep>
+    std::uint32_t smallest_circle(std::uint32_t a, std::uint32_t b, const std::vector<std::uint32_t>& cand, Keep&& keep) const {
         const Vec2 pa = pts_[a], pb = pts_[b];
         std::uint32_t best = UINT32_MAX;
         for (std::uint32_t c : cand)
-            if (best == UINT32_MAX || incircle_perturbed(pa, pb, pts_[best], pts_[c], a, b, best, c) > 0) best = c;
+            if ((best == UINT32_MAX || incircle_perturbed(pa, pb, pts_[best], pts_[c], a, b, best, c) > 0) && keep(c))
+                best = c;
         return best;
     }
 
