@@ -42,7 +42,7 @@ TriangulationResult triangulate_delaunay(std::span<const Vec2> points,
 
 /// The paper's triangulator (section 5, after Lo 1989): the Delaunay advancing front. For
 /// the last front edge AB, the visible point C on its left whose circle through A, B, C
-/// holds no other visible candidate forms ABC; the candidate search is local (a grid) and
+/// holds no other visible candidate forms ABC; the candidate search is local (a k-d tree) and
 /// widens until a point is found. Gives the same triangles as triangulate_delaunay(). Its
 /// points must be distinct (InternalError if two coincide; alias is the identity).
 TriangulationResult triangulate_advancing_front(std::span<const Vec2> points,
