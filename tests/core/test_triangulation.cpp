@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -145,6 +147,30 @@ TEST(Delaunay, AnnulusWithHoleRemoved) {
     const auto cons = loop_constraints(loops);
     const auto r = triangulate_delaunay(pts, cons);
     expect_valid(mesh_of(pts, loops.size() - 1, r, cons));
+}
+
+// A point behind a hole that would take an edge's triangle if the hole did not hide it. The
+// square's bottom edge A = (0,0), B = (10,0); a slit of a hole from x = 1 to 8.5 at y = 4.9 to
+// 5.1; C = (5, 5.5) above it. Circles through A and B are nested on their left: the one through
+// the slit's lower right corner D = (8.5, 4.9) (centre (5, 1.149), radius 5.13) holds C (at
+// 4.35 from the centre) but none of the slit's other corners (5.48, 5.62, 5.28) nor the
+// square's, and C's circle holds none of them: C has the smallest circle on AB. The segment
+// AC crosses the slit's lower side (at x = 4.45), so C is hidden from AB, and AB's triangle is
+// ABD. The advancing front must see the hole's sides as walls.
+TEST(Triangulators, APointBehindAHoleIsNotTakenAcrossIt) {
+    const std::vector<Vec2> pts = {{0, 0}, {10, 0}, {10, 10}, {0, 10},        // outer, counter-clockwise
+                                   {1, 4.9}, {1, 5.1}, {8.5, 5.1}, {8.5, 4.9},  // the slit, clockwise
+                                   {5, 5.5}};
+    const std::vector<std::vector<std::uint32_t>> loops{{0, 1, 2, 3}, {4, 5, 6, 7}};
+    const auto cons = loop_constraints(loops);
+    const TriangulationResult d = triangulate_delaunay(pts, cons);
+    const TriangulationResult f = triangulate_advancing_front(pts, cons);
+    for (const TriangulationResult* r : {&d, &f}) {
+        expect_valid(mesh_of(pts, 1, *r, cons));
+        const auto tris = canonical(r->triangles);
+        EXPECT_TRUE(std::find(tris.begin(), tris.end(), std::array<std::uint32_t, 3>{0, 1, 7}) != tris.end());
+    }
+    EXPECT_EQ(canonical(f.triangles), canonical(d.triangles));
 }
 
 TEST(Delaunay, ConstraintsAreRecoveredAcrossManyTriangles) {

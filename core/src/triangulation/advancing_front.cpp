@@ -3,7 +3,7 @@
 // The front starts as the loop segments (domain on their left) and the embedded segments
 // in both directions, each split at the input points on it. For the last front edge AB,
 // the candidates are the live points on its left within a radius R of its midpoint (R
-// starts at |AB|); among those visible from AB (AC and BC cross no front edge) the one
+// starts at |AB|); among those visible from AB (AC and BC cross no constraint) the one
 // whose circle through A, B holds no other visible candidate is C*. Circles through A and
 // B are nested on the left of AB, so the smallest of all is C* when it is visible (nearly
 // always: the crossing test is asked once), and else one pass that replaces C* by any
@@ -12,17 +12,27 @@
 // close matching front edges or join the front. Decisions are exact and use the same
 // perturbed in-circle test as the incremental triangulator, so both give the same
 // triangles.
+//
+// Why only the constraints can hide a candidate (not the rest of the front): every front
+// edge is an edge of the constrained Delaunay triangulation, and so is the triangle ABC* to
+// be found. AC* and BC* are its edges, so they cross no constraint: C* is visible. A point C
+// on the left of AB inside the circle of ABC* lies in the cap beyond AC* or beyond BC*, and
+// the circle of a CDT triangle holds only points hidden from its inside by constraints; the
+// segment from B (or A) to a point in the cap beyond AC* (BC*) passes through that side's
+// inside, so it meets a constraint that hides C (a constraint ending on it included, as
+// segments_intersect counts touching). So C is not visible in this sense, and the smallest
+// circle of the visible candidates is ABC*'s. The constraints never change: their crossing
+// test is a query of a static tree of boxes, where the live front edges needed a grid kept
+// up to date and a walk through every size class.
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <array>
-#include <memory>
 #include <numeric>
-#include <unordered_map>
+#include <tuple>
 
 #include "triangulation/triangle_soup.hpp"
-#include "kernel/size_grid.hpp"
 #include "kernel/kdtree.hpp"
 #include "meshd/core/errors.hpp"
 #include "meshd/core/observer.hpp"
@@ -33,9 +43,6 @@
 namespace meshd::core {
 
 namespace {
-
-using detail::CellMap;
-using detail::SizeClasses;
 
 // Disk queries over the static tree of kdtree.hpp.
 class PointTree {
@@ -69,12 +76,18 @@ public:
         Box box;
         for (const Vec2& p : pts) box.add(p);
         extent_ = std::fmax(box.diagonal(), 1e-300);
-        classes_ = std::make_unique<SizeClasses>(box.lo - Vec2{extent_, extent_}, extent_);
         require_distinct();
         cons_ = split_at_points(cons);
+        build_walls();
+        out_.assign(pts.size(), kNone);
         for (const Constraint& c : cons_) {
-            add_front(c.a, c.b);
-            if (!c.loop) add_front(c.b, c.a);
+            const std::uint32_t id = add_front(c.a, c.b, kNoTriangle, 0);
+            edges_[id].kind = c.loop ? kLoop : kEmbedded;
+            if (c.loop) continue;
+            const std::uint32_t back = add_front(c.b, c.a, kNoTriangle, 0);
+            edges_[back].kind = kEmbedded;
+            edges_[id].partner = back;
+            edges_[back].partner = id;
         }
     }
 
@@ -143,101 +156,104 @@ private:
         return out;
     }
 
+    static constexpr std::uint32_t kNone = UINT32_MAX;
+    enum Kind : std::uint8_t { kInner, kLoop, kEmbedded };
+
+    // A front edge a -> b (the part still to triangulate on its left). Each made by a triangle
+    // is that triangle's edge `side` (t on its right: the neighbour of the triangle that will
+    // take it); the sides of an embedded constraint get the triangle the other side took.
     struct FrontEdge {
         std::uint32_t a, b;
-        bool alive;
-        int k;  // size class
+        TriangleId t = kNoTriangle;
+        std::uint32_t side = 0;
+        std::uint32_t next = kNone;     // the next live front edge out of a
+        std::uint32_t partner = kNone;  // an embedded constraint's other side
+        Kind kind = kInner;
+        bool alive = true;
     };
 
-    void add_front(std::uint32_t a, std::uint32_t b) {
+    std::uint32_t add_front(std::uint32_t a, std::uint32_t b, TriangleId t, std::uint32_t side) {
         const auto id = static_cast<std::uint32_t>(edges_.size());
-        const Vec2 pa = pts_[a], pb = pts_[b];
-        const int k = classes_->class_of(distance(pa, pb));
-        edges_.push_back({a, b, true, k});
-        front_[detail::directed_key(a, b)] = id;
+        FrontEdge e;
+        e.a = a;
+        e.b = b;
+        e.t = t;
+        e.side = side;
+        e.next = out_[a];
+        edges_.push_back(e);
+        out_[a] = id;
         stack_.push_back(id);
         ++front_degree_[a];
         ++front_degree_[b];
         touched_[a] = touched_[b] = 1;
-        for (auto x = classes_->ix(std::fmin(pa.x, pb.x), k); x <= classes_->ix(std::fmax(pa.x, pb.x), k); ++x)
-            for (auto y = classes_->iy(std::fmin(pa.y, pb.y), k); y <= classes_->iy(std::fmax(pa.y, pb.y), k); ++y)
-                grid_.push(k, x, y, id);
-        class_edges_[static_cast<size_t>(k)].push_back(id);
-        ++class_alive_[static_cast<size_t>(k)];
+        return id;
     }
 
     void remove_front(std::uint32_t id) {
         FrontEdge& e = edges_[id];
         e.alive = false;
-        front_.erase(detail::directed_key(e.a, e.b));
+        std::uint32_t* link = &out_[e.a];
+        while (*link != id) link = &edges_[*link].next;
+        *link = e.next;
         --front_degree_[e.a];
         --front_degree_[e.b];
-        const auto k = static_cast<size_t>(e.k);
-        --class_alive_[k];
-        // Keep each class's list about as long as its live edges.
-        std::vector<std::uint32_t>& list = class_edges_[k];
-        if (list.size() > 2 * class_alive_[k] + 32)
-            std::erase_if(list, [&](std::uint32_t i) { return !edges_[i].alive; });
+    }
+
+    // The live front edge u -> w, or kNone. A point has few live front edges (two, where the
+    // front passes through it once).
+    std::uint32_t find_front(std::uint32_t u, std::uint32_t w) const {
+        for (std::uint32_t e = out_[u]; e != kNone; e = edges_[e].next)
+            if (edges_[e].b == w) return e;
+        return kNone;
+    }
+
+    // The constraints in a tree of median splits over their midpoints, each node with the box
+    // of its constraints (not only of their midpoints).
+    void build_walls() {
+        std::vector<Vec2> mids(cons_.size());
+        for (size_t i = 0; i < cons_.size(); ++i) mids[i] = 0.5 * (pts_[cons_[i].a] + pts_[cons_[i].b]);
+        const detail::KdLayout layout(mids);
+        wall_order_ = layout.order;
+        wall_nodes_ = layout.nodes;
+        // Children come after their parents: from the last node back, each box is its
+        // constraints' (a leaf) or its children's.
+        for (size_t i = wall_nodes_.size(); i-- > 0;) {
+            detail::KdNode& n = wall_nodes_[i];
+            n.box = Box{};
+            if (n.left == 0) {
+                for (std::uint32_t j = n.begin; j < n.end; ++j) {
+                    n.box.add(pts_[cons_[wall_order_[j]].a]);
+                    n.box.add(pts_[cons_[wall_order_[j]].b]);
+                }
+            } else {
+                n.box.add(wall_nodes_[n.left].box);
+                n.box.add(wall_nodes_[n.right].box);
+            }
+        }
     }
 
     bool alive_point(std::uint32_t v) const { return !touched_[v] || front_degree_[v] > 0; }
 
-    bool crosses(std::uint32_t p, std::uint32_t q, std::uint32_t id) const {
-        const FrontEdge& f = edges_[id];
-        if (!f.alive || f.a == p || f.b == p || f.a == q || f.b == q) return false;
-        return segments_intersect(pts_[p], pts_[q], pts_[f.a], pts_[f.b]);
-    }
-
-    bool cell_blocks(std::uint32_t p, std::uint32_t q, int k, std::int64_t x, std::int64_t y) const {
-        for (auto e = grid_.head(k, x, y); e != CellMap::kNone; e = grid_.next(e))
-            if (crosses(p, q, grid_.item(e))) return true;
-        return false;
-    }
-
-    // Does segment p-q cross a live front edge (other than at shared ends)? In each size class
-    // an edge crossing p-q is listed in a cell p-q passes through (its box holds the crossing
-    // point), so either those cells are searched, one column (or row) at a time, or, when the
-    // class has fewer live edges than that walk has cells (an edge far smaller than p-q), the
-    // class's own list.
+    // Does segment p-q meet a constraint other than at a shared end?
     bool blocked(std::uint32_t p, std::uint32_t q) const {
         const Vec2 pp = pts_[p], pq = pts_[q];
-        for (int k = 1; k <= SizeClasses::kMax; ++k) {
-            const auto kk = static_cast<size_t>(k);
-            if (class_alive_[kk] == 0) continue;
-            const std::int64_t x0 = classes_->ix(std::fmin(pp.x, pq.x), k), x1 = classes_->ix(std::fmax(pp.x, pq.x), k);
-            const std::int64_t y0 = classes_->iy(std::fmin(pp.y, pq.y), k), y1 = classes_->iy(std::fmax(pp.y, pq.y), k);
-            const double cols = static_cast<double>(x1) - static_cast<double>(x0) + 1.0;
-            const double rows = static_cast<double>(y1) - static_cast<double>(y0) + 1.0;
-            if (4.0 * std::fmin(cols, rows) + std::fmax(cols, rows) >= static_cast<double>(class_edges_[kk].size())) {
-                for (std::uint32_t id : class_edges_[kk])
-                    if (crosses(p, q, id)) return true;
-                continue;
+        const Box box{{std::fmin(pp.x, pq.x), std::fmin(pp.y, pq.y)}, {std::fmax(pp.x, pq.x), std::fmax(pp.y, pq.y)}};
+        bool found = false;
+        detail::depth_first(wall_nodes_, [&](const detail::KdNode& n) {
+            if (n.box.hi.x < box.lo.x || n.box.lo.x > box.hi.x || n.box.hi.y < box.lo.y || n.box.lo.y > box.hi.y)
+                return detail::Descend::No;
+            if (n.left != 0) return detail::Descend::LeftFirst;
+            for (std::uint32_t j = n.begin; j < n.end; ++j) {
+                const Constraint& c = cons_[wall_order_[j]];
+                if (c.a == p || c.b == p || c.a == q || c.b == q) continue;
+                if (segments_intersect(pp, pq, pts_[c.a], pts_[c.b])) {
+                    found = true;
+                    return detail::Descend::Stop;
+                }
             }
-            // Walk along the longer direction; in each column (row) the segment covers a range
-            // of rows (columns), widened by one for rounding.
-            const bool by_x = cols >= rows;
-            const Vec2 a = by_x ? (pp.x <= pq.x ? pp : pq) : (pp.y <= pq.y ? pp : pq);
-            const Vec2 b = by_x ? (pp.x <= pq.x ? pq : pp) : (pp.y <= pq.y ? pq : pp);
-            const double c = classes_->cell(k);
-            const std::int64_t i0 = by_x ? x0 : y0, i1 = by_x ? x1 : y1;
-            for (std::int64_t i = i0; i <= i1; ++i) {
-                // The part of a-b over the slab of column i.
-                const double lo_edge = (by_x ? classes_->origin().x : classes_->origin().y) + static_cast<double>(i) * c;
-                const double s_a = by_x ? a.x : a.y, s_b = by_x ? b.x : b.y;
-                const double u0 = std::fmax(s_a, lo_edge), u1 = std::fmin(s_b, lo_edge + c);
-                auto across = [&](double u) {
-                    if (s_b == s_a) return by_x ? a.y : a.x;
-                    const double t = std::clamp((u - s_a) / (s_b - s_a), 0.0, 1.0);
-                    return by_x ? a.y + t * (b.y - a.y) : a.x + t * (b.x - a.x);
-                };
-                const double v0 = across(u0), v1 = across(u1);
-                const std::int64_t j0 = (by_x ? classes_->iy(std::fmin(v0, v1), k) : classes_->ix(std::fmin(v0, v1), k)) - 1;
-                const std::int64_t j1 = (by_x ? classes_->iy(std::fmax(v0, v1), k) : classes_->ix(std::fmax(v0, v1), k)) + 1;
-                for (std::int64_t j = j0; j <= j1; ++j)
-                    if (by_x ? cell_blocks(p, q, k, i, j) : cell_blocks(p, q, k, j, i)) return true;
-            }
-        }
-        return false;
+            return detail::Descend::No;
+        });
+        return found;
     }
 
     void advance(std::uint32_t f) {
@@ -286,8 +302,7 @@ private:
     // Of the candidates that `keep` accepts, the one whose circle through a and b holds no
     // other (UINT32_MAX: none). The circles on the left of ab are nested, and the perturbed
     // in-circle test orders them strictly, so one pass that takes any kept candidate inside
-    // the circle so far finds it, asking `keep` (the crossing test, the search's dearest part)
-    // only of those.
+    // the circle so far finds it, asking `keep` (the crossing test) only of those.
     template <class Keep>
     std::uint32_t smallest_circle(std::uint32_t a, std::uint32_t b, const std::vector<std::uint32_t>& cand, Keep&& keep) const {
         const Vec2 pa = pts_[a], pb = pts_[b];
@@ -298,45 +313,44 @@ private:
         return best;
     }
 
+    // Triangle a, b, c on front edge f (a -> b). Its edges close the front edges they meet
+    // (linked to the triangles that made them) or join the front.
     void form(std::uint32_t f, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        const auto t = static_cast<TriangleId>(tris_.size());
         tris_.push_back({{a, b, c}, {kNoTriangle, kNoTriangle, kNoTriangle}, 0, 0});
-        remove_front(f);
+        take(t, 2, f);
         touched_[c] = 1;
-        // Edge b -> c: closes front edge b -> c, or opens c -> b. Likewise c -> a.
-        for (auto [u, w] : {std::pair{b, c}, std::pair{c, a}}) {
-            auto it = front_.find(detail::directed_key(u, w));
-            if (it != front_.end()) remove_front(it->second);
-            else add_front(w, u);
+        // Edge b -> c (edge 0): closes front edge b -> c, or opens c -> b. Likewise c -> a.
+        for (auto [u, w, side] : {std::tuple{b, c, 0u}, std::tuple{c, a, 1u}}) {
+            const std::uint32_t g = find_front(u, w);
+            if (g != kNone) take(t, side, g);
+            else add_front(w, u, t, side);
         }
+    }
+
+    // Edge `side` of triangle t is front edge g: linked to the triangle that made g, marked
+    // when g is a constraint's side, handed to an embedded constraint's other side; g goes.
+    void take(TriangleId t, std::uint32_t side, std::uint32_t g) {
+        const FrontEdge& e = edges_[g];
+        Triangle& T = tris_[t];
+        if (e.t != kNoTriangle) {
+            T.n[side] = e.t;
+            tris_[e.t].n[e.side] = t;
+        }
+        if (e.kind != kInner) {
+            T.constrained = static_cast<std::uint8_t>(T.constrained | (1u << side));
+            if (e.kind == kLoop) T.boundary = static_cast<std::uint8_t>(T.boundary | (1u << side));
+        }
+        if (e.partner != kNone && edges_[e.partner].alive) {
+            edges_[e.partner].t = t;
+            edges_[e.partner].side = side;
+        }
+        remove_front(g);
     }
 
     TriangulationResult finish() {
         TriangulationResult r;
         r.triangles = std::move(tris_);
-        std::unordered_map<std::uint64_t, std::pair<TriangleId, std::uint32_t>> by_edge;
-        by_edge.reserve(3 * r.triangles.size());
-        for (TriangleId t = 0; t < r.triangles.size(); ++t)
-            for (std::uint32_t i = 0; i < 3; ++i) {
-                const Triangle& T = r.triangles[t];
-                by_edge[detail::directed_key(T.v[(i + 1) % 3], T.v[(i + 2) % 3])] = {t, i};
-            }
-        for (TriangleId t = 0; t < r.triangles.size(); ++t)
-            for (std::uint32_t i = 0; i < 3; ++i) {
-                Triangle& T = r.triangles[t];
-                auto it = by_edge.find(detail::directed_key(T.v[(i + 2) % 3], T.v[(i + 1) % 3]));
-                if (it != by_edge.end()) T.n[i] = it->second.first;
-            }
-        for (const Constraint& c : cons_) {
-            for (auto [u, w] : {std::pair{c.a, c.b}, std::pair{c.b, c.a}}) {
-                auto it = by_edge.find(detail::directed_key(u, w));
-                if (it == by_edge.end()) continue;
-                Triangle& T = r.triangles[it->second.first];
-                const std::uint8_t bit = static_cast<std::uint8_t>(1u << it->second.second);
-                T.constrained |= bit;
-                if (c.loop) T.boundary |= bit;
-                if (c.loop) T.n[it->second.second] = kNoTriangle;
-            }
-        }
         r.alias.resize(pts_.size());
         std::iota(r.alias.begin(), r.alias.end(), 0u);
         return r;
@@ -349,13 +363,11 @@ private:
     std::vector<std::uint32_t> front_degree_;
     std::vector<char> touched_;
     double extent_ = 1.0;
-    std::unique_ptr<SizeClasses> classes_;
     std::vector<FrontEdge> edges_;
-    std::unordered_map<std::uint64_t, std::uint32_t> front_;
+    std::vector<std::uint32_t> out_;  // by point: its first live front edge out (FrontEdge::next)
     std::vector<std::uint32_t> stack_;
-    CellMap grid_;
-    std::array<std::vector<std::uint32_t>, SizeClasses::kMax + 1> class_edges_;  // live and some dead
-    std::array<size_t, SizeClasses::kMax + 1> class_alive_{};
+    std::vector<std::uint32_t> wall_order_;    // constraints in the tree's order
+    std::vector<detail::KdNode> wall_nodes_;  // the tree of the constraints (build_walls)
     Array<Triangle> tris_;
     std::vector<std::uint32_t> cand_;
 };
