@@ -154,6 +154,50 @@ TEST(RandomDomains, BothTriangulatorsGiveTheSameTriangles) {
     EXPECT_GE(compared, seeds * 9 / 10);
 }
 
+// The interior's crossing proof (InteriorOptions::crossing_proof) only leaves out segments
+// that cannot fail the crossing test: with it and without, every point and triangle is the
+// same. A third of the random densities are uniform, where the proof holds through whole runs;
+// the others drop it at the start or on the way. MESHD_RANDOM_PROOF sets the seed count.
+TEST(RandomDomains, TheCrossingProofLeavesTheMeshAsItWas) {
+    std::uint64_t seeds = 150;
+    if (const char* s = std::getenv("MESHD_RANDOM_PROOF")) seeds = std::strtoull(s, nullptr, 10);
+    std::uint64_t compared = 0, refused = 0, proven_runs = 0, proven = 0, candidates = 0;
+    for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
+        const RandomCase rc = random_case(seed);
+        MeshOptions o;
+        o.max_points = 100000;
+        const auto with = mesh_or_refusal(seed, rc, refused, [&] { return generate_mesh(rc.domain, rc.density, o); });
+        if (!with) continue;
+        o.interior.crossing_proof = false;
+        const auto without = mesh_or_refusal(seed, rc, refused, [&] { return generate_mesh(rc.domain, rc.density, o); });
+        if (!without) {
+            ADD_FAILURE() << "seed " << seed << ": refused without the proof only";
+            continue;
+        }
+        EXPECT_EQ(without->stats.interior.crossings_proven, 0u) << "seed " << seed;
+        ASSERT_EQ(with->mesh.point_count(), without->mesh.point_count()) << "seed " << seed << " (" << rc.summary << ")";
+        ASSERT_EQ(with->mesh.triangles.size(), without->mesh.triangles.size()) << "seed " << seed;
+        bool same = true;
+        for (size_t i = 0; i < with->mesh.point_count(); ++i)
+            same = same && with->mesh.x[i] == without->mesh.x[i] && with->mesh.y[i] == without->mesh.y[i];
+        for (size_t t = 0; t < with->mesh.triangles.size(); ++t)
+            same = same && with->mesh.triangles[t].v == without->mesh.triangles[t].v;
+        EXPECT_TRUE(same) << "seed " << seed << " (" << rc.summary << ")";
+        ++compared;
+        proven_runs += with->stats.interior.crossings_proven > 0 ? 1 : 0;
+        proven += with->stats.interior.crossings_proven;
+        candidates += with->stats.interior.candidates;
+    }
+    std::printf("[ random domains, crossing proof ] %llu compared (%llu with the proof used, %llu of %llu "
+                "candidates), %llu refused\n",
+                static_cast<unsigned long long>(compared), static_cast<unsigned long long>(proven_runs),
+                static_cast<unsigned long long>(proven), static_cast<unsigned long long>(candidates),
+                static_cast<unsigned long long>(refused));
+    EXPECT_GE(compared, seeds * 9 / 10);
+    // The comparison means something only where the proof was used.
+    EXPECT_GE(proven_runs, compared / 10);
+}
+
 // Where curves meet at a named point (a corner, a spoke leaving a hole, a wake line leaving the
 // outer loop) the agreement caps the longer curves at the shortest first segment there: the
 // triangle that closes such a corner is often made of those two segments alone, and its angles

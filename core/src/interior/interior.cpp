@@ -1,12 +1,14 @@
 // Interior points by the advancing front (algorithm 4.1); see interior.hpp.
 
 #include "interior/interior.hpp"
+#include "interior/crossing_proof.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <climits>
 #include <string>
 
 #include "triangulation/triangle_soup.hpp"
@@ -101,15 +103,23 @@ public:
         detail::reserve_huge(home_, n);
         detail::reserve_huge(front_, 2 * n);
         points_.reserve(n);
-        segments_.reserve(2 * n + n / 4);
         jumps_to_stop_ = budget.jumps_to_stop;
         extra_bytes_ = budget.extra_bytes;
         candidates_at_start_ = stats_.candidates;
         jumps_at_start_ = stats_.jumps;
         // No forecast (0): nothing to report against.
         report_at_ = budget.expected_points ? 2 * std::max(budget.expected_points, nb) : SIZE_MAX;
-        for (VertexId v = 0; v < nb; ++v) add_point(d.point(v), d.rho[v], kNoTriangle);
+        segment_room_ = 2 * n + n / 4;
+        proof_ = opt_.crossing_proof && opt_.proximity > 0.0;
+        for (VertexId v = 0; v < nb; ++v) {
+            // The crossing proof (crossing_proof.hpp) needs every two points spaced as (4.22)
+            // asks: the front's are (the test itself, and step()'s check of a new point against
+            // its segment's ends), the boundary's are checked here.
+            if (proof_ && near_other_point(d.point(v), d.rho[v], kNoPoint, kNoPoint) != kNoPoint) proof_ = false;
+            add_point(d.point(v), d.rho[v], kNoTriangle);
+        }
         boundary_count_ = nb;
+        if (!proof_) segments_.reserve(segment_room_);
         for (size_t i = 0; i < d.segments.size(); ++i) {
             const auto& s = d.segments[i];
             push_segment(s.a, s.b, true);
@@ -142,6 +152,11 @@ private:
         const int k = classes_.class_of(r);
         largest_rho_[static_cast<size_t>(k)] = fmax_inline(largest_rho_[static_cast<size_t>(k)], r);
         points_.push(k, classes_.ix(p.x, k), classes_.iy(p.y, k), GridPoint{p, r});  // entry pts_.size() - 1
+        size_lo_ = fmin_inline(size_lo_, r);
+        size_hi_ = fmax_inline(size_hi_, r);
+        class_lo_ = std::min(class_lo_, k);
+        class_hi_ = std::max(class_hi_, k);
+        if (proof_ && class_hi_ - class_lo_ > 1) drop_proof();
         if (pts_.size() > max_points_)
             throw GeometryError(GeometryErrorKind::TooManyPoints,
                                 "the mesh needs more than " + std::to_string(max_points_) + " points");
@@ -159,7 +174,14 @@ private:
         const auto id = static_cast<std::uint32_t>(front_.size());
         front_.emplace_back(a, b, boundary);
         stack_.push_back(id);
-        const Vec2 pa = pts_[a], pb = pts_[b];
+        if (!proof_ || boundary ||
+            distance(pts_[a], pts_[b]) > detail::kShortSegment * fmin_inline(points_.item(a).rho, points_.item(b).rho))
+            enter(id);
+    }
+
+    // Segment `id` entered in the crossing test's grid.
+    void enter(std::uint32_t id) {
+        const Vec2 pa = pts_[front_[id].a], pb = pts_[front_[id].b];
         const int k = classes_.class_of(distance(pa, pb));
         const Vec2 mid = 0.5 * (pa + pb);
         segments_.push(k, classes_.ix(mid.x, k), classes_.iy(mid.y, k), id);
@@ -170,6 +192,16 @@ private:
             return kMidpointMargin * 0.5 * std::fabs(v - u) + 0x1p-50 * (std::fabs(u) + std::fabs(v));
         };
         reach = {fmax_inline(reach.x, half(pa.x, pb.x)), fmax_inline(reach.y, half(pa.y, pb.y))};
+    }
+
+    // From here on every segment is in the grid, as if the proof had never been used: the grid
+    // is built again, each segment entered in the order of the ids, as push_segment would have.
+    void drop_proof() {
+        proof_ = false;
+        segments_ = CellGrid<GridSegment, true>();
+        segments_.reserve(std::max(segment_room_, front_.size()));
+        segment_reach_.fill(Vec2{0.0, 0.0});
+        for (std::uint32_t id = 0; id < front_.size(); ++id) enter(id);
     }
 
     // The candidate of (4.3)/(4.7)/(4.12)/(4.19) for segment a -> b with radii ra, rb.
@@ -341,6 +373,8 @@ private:
         if (p < boundary_count_ && seg.a < boundary_count_ && seg.b < boundary_count_) return;
         const Vec2 a = pts_[seg.a], b = pts_[seg.b], c = pts_[p];
         if (orient2d(a, b, c) != Orientation::Left) return;
+        // The closing looks segments up in the grid, and its segments may be long.
+        if (proof_) drop_proof();
         const std::uint32_t bp = find_segment(seg.b, p), pa = find_segment(p, seg.a);
         if (!((bp != kNoPoint && front_[bp].alive) || (pa != kNoPoint && front_[pa].alive))) return;
         if (crosses_front(seg.a, seg.b, c, p)) return;
@@ -402,6 +436,17 @@ private:
             if (rc > kCloseGrowth * fmin_inline(ra, rb)) close_on(seg, p);
             return;
         }
+        if (proof_) {
+            // C's (4.22) test saw every point when C's class and theirs are two neighbours at most.
+            const int k = classes_.class_of(rc);
+            const double p = opt_.proximity;
+            if (std::max(class_hi_, k) - std::min(class_lo_, k) > 1 ||
+                !detail::short_segments_cannot_cross(distance(a, c), ra, rc, size_lo_, size_hi_, p) ||
+                !detail::short_segments_cannot_cross(distance(b, c), rb, rc, size_lo_, size_hi_, p))
+                drop_proof();
+            else
+                ++stats_.crossings_proven;
+        }
         if (crosses_front(seg.a, seg.b, c)) {
             ++stats_.rejected_crossing;
             front_[s].alive = false;
@@ -418,6 +463,11 @@ private:
             ++stats_.rejected_outside;
             front_[s].alive = false;
             return;
+        }
+        // C's (4.22) test left out A and B: the proof needs them spaced too.
+        if (proof_) {
+            const double la = opt_.proximity * 0.5 * (ra + rc), lb = opt_.proximity * 0.5 * (rb + rc);
+            if (norm2(c - a) < la * la || norm2(c - b) < lb * lb) drop_proof();
         }
         const auto id = static_cast<std::uint32_t>(pts_.size());
         add_point(c, rc, home_c);
@@ -452,6 +502,19 @@ private:
     std::array<double, SizeClasses::kMax + 1> largest_rho_{};  // of the points in each class
     std::array<Vec2, SizeClasses::kMax + 1> segment_reach_{};  // the segments' largest half extents, by class
     CellGrid<GridSegment, true> segments_;
+    size_t segment_room_ = 0;  // entries reserved in segments_ when every segment is entered
+    // While proof_ holds, segments that are short and not of the boundary stay out of the
+    // segments' grid, and each candidate's crossing test first proves that they cannot cross
+    // its sides (crossing_proof.hpp). The proof needs every two points spaced as (4.22) asks,
+    // which (4.22) ensures only for the classes it looks at: it holds while all sizes are in
+    // two neighbouring classes (each point's test then sees every other), the boundary's
+    // points are spaced (checked at the start) and each new point is spaced from its
+    // segment's ends. The first time any
+    // of this fails, or a closing needs the grid, the grid takes every segment and the run
+    // goes on as if the proof had never been used: the mesh is the same either way.
+    bool proof_ = true;
+    double size_lo_ = HUGE_VAL, size_hi_ = 0.0;  // the least and largest size of the points
+    int class_lo_ = INT_MAX, class_hi_ = INT_MIN;  // and their classes
 };
 
 }  // namespace

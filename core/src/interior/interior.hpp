@@ -12,10 +12,11 @@
 /// P (AP and PB take AB's place), as the paper's front, finer than its field by a third or
 /// more, would otherwise die after one row. The run ends when no segment is active.
 ///
-/// Neighbour and crossing queries go through hashed grids by size class; being inside is
-/// decided by a straight walk in the constrained triangulation of the boundary, with exact
-/// predicates. Each step costs O(1) on graded meshes: the run is linear in the number of
-/// points.
+/// Neighbour and crossing queries go through hashed grids by size class (the crossing test
+/// leaves out the short segments that crossing_proof.hpp shows cannot cross, where its
+/// conditions hold: nearly uniform fields); being inside is decided by a straight walk in the
+/// constrained triangulation of the boundary, with exact predicates. Each step costs O(1) on
+/// graded meshes: the run is linear in the number of points.
 
 #include <cstdint>
 #include <vector>

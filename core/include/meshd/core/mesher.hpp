@@ -46,6 +46,11 @@ struct InteriorOptions {
     /// edges to within a few percent of rho and raises the mean radius ratio from 0.954 to
     /// 0.972 on the NACA 0012 benchmark case (measured: docs/method.md).
     double proximity = 0.8;
+    /// Where the sizes stay within two neighbouring size classes and every two points are
+    /// spaced as (4.22) asks, the front's short segments are left out of the crossing test,
+    /// which a proof shows they cannot fail (interior/crossing_proof.hpp): the same points,
+    /// sooner. false: every segment is tested (the tests compare the two).
+    bool crossing_proof = true;
 };
 
 /// The most points one mesh may have, whatever max_points says: vertex and triangle ids are
@@ -123,6 +128,9 @@ struct InteriorStats {
     std::uint64_t accepted = 0;
     std::uint64_t rejected_near = 0;      ///< (4.22)
     std::uint64_t rejected_crossing = 0;  ///< AC or BC crosses the front
+    /// Candidates whose crossing test left the short segments to the proof
+    /// (InteriorOptions::crossing_proof).
+    std::uint64_t crossings_proven = 0;
     std::uint64_t rejected_outside = 0;   ///< outside the domain or across a constraint
     /// Candidates whose size is more than kFieldJump times off both ends of their segment (the
     /// field changes faster than one element can follow).
