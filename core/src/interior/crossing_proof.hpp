@@ -12,8 +12,8 @@
 
 namespace meshd::core::detail {
 
-/// A front segment that is not a boundary segment is short when it is at most this many times
-/// as long as the smaller size at its ends. Each segment the front makes spans about the mean
+/// A front segment is short when it is at most this many times as long as the smaller size at
+/// its ends. Each segment the front makes spans about the mean
 /// of its ends' sizes, so where the field changes gently almost every segment is short.
 inline constexpr double kShortSegment = 1.1;
 

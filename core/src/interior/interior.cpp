@@ -174,7 +174,9 @@ private:
         const auto id = static_cast<std::uint32_t>(front_.size());
         front_.emplace_back(a, b, boundary);
         stack_.push_back(id);
-        if (!proof_ || boundary ||
+        // A boundary segment's ends are spaced like any other two points (the constructor
+        // checks), so the proof covers the short ones too.
+        if (!proof_ ||
             distance(pts_[a], pts_[b]) > detail::kShortSegment * fmin_inline(points_.item(a).rho, points_.item(b).rho))
             enter(id);
     }
@@ -503,15 +505,15 @@ private:
     std::array<Vec2, SizeClasses::kMax + 1> segment_reach_{};  // the segments' largest half extents, by class
     CellGrid<GridSegment, true> segments_;
     size_t segment_room_ = 0;  // entries reserved in segments_ when every segment is entered
-    // While proof_ holds, segments that are short and not of the boundary stay out of the
-    // segments' grid, and each candidate's crossing test first proves that they cannot cross
-    // its sides (crossing_proof.hpp). The proof needs every two points spaced as (4.22) asks,
-    // which (4.22) ensures only for the classes it looks at: it holds while all sizes are in
-    // two neighbouring classes (each point's test then sees every other), the boundary's
-    // points are spaced (checked at the start) and each new point is spaced from its
-    // segment's ends. The first time any
-    // of this fails, or a closing needs the grid, the grid takes every segment and the run
-    // goes on as if the proof had never been used: the mesh is the same either way.
+    // While proof_ holds, short segments (the boundary's too) stay out of the segments' grid,
+    // and each candidate's crossing test first proves that they cannot cross its sides
+    // (crossing_proof.hpp). The proof needs every two points spaced as (4.22) asks, which
+    // (4.22) ensures only for the classes it looks at: it holds while all sizes are in two
+    // neighbouring classes (each point's test then sees every other), the boundary's points
+    // are spaced (checked at the start) and each new point is spaced from its segment's ends.
+    // The first time any of this fails, or a closing needs the grid, the grid takes every
+    // segment and the run goes on as if the proof had never been used: the mesh is the same
+    // either way.
     bool proof_ = true;
     double size_lo_ = HUGE_VAL, size_hi_ = 0.0;  // the least and largest size of the points
     int class_lo_ = INT_MAX, class_hi_ = INT_MIN;  // and their classes
