@@ -276,6 +276,7 @@ private:
     // With `ic` (the id of c when c is a point of the front, not a candidate), segments
     // ending at c meet AC and BC there by construction too.
     bool crosses_front(std::uint32_t ia, std::uint32_t ib, Vec2 c, std::uint32_t ic = kNoPoint) {
+        if (segments_.empty()) return false;  // the crossing proof left every segment out
         const Vec2 a = pts_[ia], b = pts_[ib];
         struct Edge {
             Vec2 p, lo, hi;

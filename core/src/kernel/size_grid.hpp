@@ -62,6 +62,8 @@ public:
     /// computes its cells: most classes around a query's own are empty where the sizes vary
     /// gently).
     bool has_class(int k) const { return (classes_ & class_bit(k)) != 0; }
+    /// Whether no item was ever entered.
+    bool empty() const { return classes_ == 0; }
 
     std::uint32_t head(int k, std::int64_t x, std::int64_t y) const {
         const std::uint32_t b = find_block(k, x, y);
