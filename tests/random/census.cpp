@@ -68,8 +68,10 @@ int census(std::uint64_t from, std::uint64_t to, bool layers, bool each, bool gr
     int below = 0, meshed = 0, refused = 0, invalid = 0, closed = 0, graded = 0, crossed = 0;
     double sum = 0.0, points = 0.0;
     // The interior's candidates, and those its crossing test refused (after the proximity
-    // test (4.22) passed them): how often that test, a tenth of a small request, decides.
-    std::uint64_t candidates = 0, rejected_crossing = 0;
+    // test (4.22) passed them): how often that test, a tenth of a small request, decides; and
+    // the candidates whose test left the short segments to the crossing proof, in how many meshes.
+    std::uint64_t candidates = 0, rejected_crossing = 0, proven = 0;
+    int proven_meshes = 0;
     for (std::uint64_t seed = from; seed <= to; ++seed) {
         const auto c = case_for(seed, layers);
         if (!c || (graded_only && !c->rc.density.gradation)) continue;
@@ -86,6 +88,8 @@ int census(std::uint64_t from, std::uint64_t to, bool layers, bool each, bool gr
             candidates += r.stats.interior.candidates;
             rejected_crossing += r.stats.interior.rejected_crossing;
             crossed += r.stats.interior.rejected_crossing > 0 ? 1 : 0;
+            proven += r.stats.interior.crossings_proven;
+            proven_meshes += r.stats.interior.crossings_proven > 0 ? 1 : 0;
             if (each)
                 std::printf("seed %llu: %zu points, %.4f degrees\n", static_cast<unsigned long long>(seed), r.quality.points,
                             angle);
@@ -122,8 +126,10 @@ int census(std::uint64_t from, std::uint64_t to, bool layers, bool each, bool gr
     std::printf("%d of %d meshes below 30 degrees (%d refused, %d invalid); mean smallest angle %.3f; %.0f points; "
                 "%d with closing rounds; %d with the jump gradation\n",
                 below, meshed, refused, invalid, sum / std::max(meshed, 1), points, closed, graded);
-    std::printf("interior: %llu candidates, %llu refused by the crossing test, in %d meshes\n",
-                static_cast<unsigned long long>(candidates), static_cast<unsigned long long>(rejected_crossing), crossed);
+    std::printf("interior: %llu candidates, %llu refused by the crossing test, in %d meshes; %llu left the short "
+                "segments to the crossing proof, in %d meshes\n",
+                static_cast<unsigned long long>(candidates), static_cast<unsigned long long>(rejected_crossing), crossed,
+                static_cast<unsigned long long>(proven), proven_meshes);
     return 0;
 }
 
