@@ -1,7 +1,8 @@
 // A request body, as the server would get it: parsed, validated, its size forecast, and when
 // the forecast is small, meshed, the mesh held to check_mesh. Any answer but a 4xx problem
 // (a 500, an escaped exception, a broken mesh) or a sanitizer report is a finding; so is a
-// hang (libFuzzer's -timeout).
+// hang (libFuzzer's -timeout), and a mesh that comes out different without the interior's
+// crossing proof (InteriorOptions::crossing_proof) where the proof was used.
 
 #include <cstdint>
 #include <cstdio>
@@ -33,6 +34,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             if (!broken.empty()) {
                 std::fprintf(stderr, "broken mesh: %s\n", broken.front().c_str());
                 std::abort();
+            }
+            if (r.stats.interior.crossings_proven > 0) {
+                o.interior.crossing_proof = false;
+                const core::MeshResult whole = core::generate_mesh(domain, req.density, o);
+                bool same = whole.mesh.point_count() == r.mesh.point_count() &&
+                            whole.mesh.triangles.size() == r.mesh.triangles.size();
+                for (size_t i = 0; same && i < r.mesh.point_count(); ++i)
+                    same = whole.mesh.x[i] == r.mesh.x[i] && whole.mesh.y[i] == r.mesh.y[i];
+                for (size_t t = 0; same && t < r.mesh.triangles.size(); ++t)
+                    same = whole.mesh.triangles[t].v == r.mesh.triangles[t].v;
+                if (!same) {
+                    std::fprintf(stderr, "the crossing proof changed the mesh\n");
+                    std::abort();
+                }
             }
         }
     } catch (...) {
