@@ -13,8 +13,8 @@
 namespace meshd::core::detail {
 
 /// A front segment is short when it is at most this many times as long as the smaller size at
-/// its ends. Each segment the front makes spans about the mean
-/// of its ends' sizes, so where the field changes gently almost every segment is short.
+/// its ends. Each segment the front makes spans about the mean of its ends' sizes, so where the
+/// field changes gently almost every segment is short.
 inline constexpr double kShortSegment = 1.1;
 
 /// Whether every point outside both the disk about X of radius rx and the disk about C of

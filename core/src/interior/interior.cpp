@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <climits>
 #include <string>
 
 #include "triangulation/triangle_soup.hpp"
