@@ -198,6 +198,20 @@ TEST(RandomDomains, TheCrossingProofLeavesTheMeshAsItWas) {
     EXPECT_GE(proven_runs, compared / 10);
 }
 
+// Where it applies, the proof holds through the whole run: on the load run's square (a field
+// from 0.016 to 0.026, a factor 1.6) every point the front accepts went through a crossing
+// test that the proof covered, and with a field twice as steep (a factor 2.25, still in two
+// neighbouring size classes) the first candidate's sides are beyond what the two inequalities
+// cover at the range's ends, and the proof is never used.
+TEST(RandomDomains, TheCrossingProofHoldsThroughANearUniformField) {
+    MeshOptions o;
+    const MeshResult gentle = generate_mesh(unit_square(), density_of("0.016 + 0.01 * x"), o);
+    EXPECT_GT(gentle.stats.interior.accepted, 2000u);
+    EXPECT_GE(gentle.stats.interior.crossings_proven, gentle.stats.interior.accepted);
+    const MeshResult steep = generate_mesh(unit_square(), density_of("0.016 + 0.02 * x"), o);
+    EXPECT_EQ(steep.stats.interior.crossings_proven, 0u);
+}
+
 // Where curves meet at a named point (a corner, a spoke leaving a hole, a wake line leaving the
 // outer loop) the agreement caps the longer curves at the shortest first segment there: the
 // triangle that closes such a corner is often made of those two segments alone, and its angles
