@@ -212,6 +212,29 @@ TEST(RandomDomains, TheCrossingProofHoldsThroughANearUniformField) {
     EXPECT_EQ(steep.stats.interior.crossings_proven, 0u);
 }
 
+// Curves spaced finer than the inside (0.02 against 0.025 to 0.028) make the front close on
+// points (interior.cpp, close_on): the proof is used until the first closing, which needs every
+// segment in the grid, and the mesh must come out as without the proof.
+TEST(RandomDomains, TheCrossingProofGivesWayToClosingsWithTheMeshUnchanged) {
+    const Domain dom = build_domain(unit_square());
+    for (const double inside : {0.025, 0.026, 0.028}) {
+        DensitySpec d;
+        for (const char* side : {"bottom", "right", "top", "left"}) d.curves.push_back({side, 0.02});
+        d.interior = InteriorMode::Expression;
+        d.interior_expression = std::to_string(inside);
+        MeshOptions o;
+        const MeshResult with = generate_mesh(dom, d, o);
+        o.interior.crossing_proof = false;
+        const MeshResult without = generate_mesh(dom, d, o);
+        EXPECT_GT(with.stats.interior.crossings_proven, 0u) << inside;
+        ASSERT_EQ(with.mesh.point_count(), without.mesh.point_count()) << inside;
+        bool same = true;
+        for (size_t i = 0; i < with.mesh.point_count(); ++i)
+            same = same && with.mesh.x[i] == without.mesh.x[i] && with.mesh.y[i] == without.mesh.y[i];
+        EXPECT_TRUE(same) << inside;
+    }
+}
+
 // Where curves meet at a named point (a corner, a spoke leaving a hole, a wake line leaving the
 // outer loop) the agreement caps the longer curves at the shortest first segment there: the
 // triangle that closes such a corner is often made of those two segments alone, and its angles
