@@ -106,6 +106,14 @@ inline std::vector<std::array<std::uint32_t, 3>> canonical(const core::Array<cor
     return out;
 }
 
+/// Whether two meshes have the same points, bit for bit, in the same order.
+inline bool same_points(const core::Mesh& a, const core::Mesh& b) {
+    if (a.point_count() != b.point_count()) return false;
+    for (size_t i = 0; i < a.point_count(); ++i)
+        if (a.x[i] != b.x[i] || a.y[i] != b.y[i]) return false;
+    return true;
+}
+
 /// A mesh from a triangulation of points with constraints, for check_mesh: the constraints as
 /// its edges (embedded unless loop segments), `holes` holes.
 inline core::Mesh mesh_of(const std::vector<Vec2>& pts, size_t holes, const core::TriangulationResult& r,

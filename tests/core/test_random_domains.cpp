@@ -177,9 +177,7 @@ TEST(RandomDomains, TheCrossingProofLeavesTheMeshAsItWas) {
         EXPECT_EQ(without->stats.interior.crossings_proven, 0u) << "seed " << seed;
         ASSERT_EQ(with->mesh.point_count(), without->mesh.point_count()) << "seed " << seed << " (" << rc.summary << ")";
         ASSERT_EQ(with->mesh.triangles.size(), without->mesh.triangles.size()) << "seed " << seed;
-        bool same = true;
-        for (size_t i = 0; i < with->mesh.point_count(); ++i)
-            same = same && with->mesh.x[i] == without->mesh.x[i] && with->mesh.y[i] == without->mesh.y[i];
+        bool same = same_points(with->mesh, without->mesh);
         for (size_t t = 0; t < with->mesh.triangles.size(); ++t)
             same = same && with->mesh.triangles[t].v == without->mesh.triangles[t].v;
         EXPECT_TRUE(same) << "seed " << seed << " (" << rc.summary << ")";
@@ -228,10 +226,7 @@ TEST(RandomDomains, TheCrossingProofGivesWayToClosingsWithTheMeshUnchanged) {
         const MeshResult without = generate_mesh(dom, d, o);
         EXPECT_GT(with.stats.interior.crossings_proven, 0u) << inside;
         ASSERT_EQ(with.mesh.point_count(), without.mesh.point_count()) << inside;
-        bool same = true;
-        for (size_t i = 0; i < with.mesh.point_count(); ++i)
-            same = same && with.mesh.x[i] == without.mesh.x[i] && with.mesh.y[i] == without.mesh.y[i];
-        EXPECT_TRUE(same) << inside;
+        EXPECT_TRUE(same_points(with.mesh, without.mesh)) << inside;
     }
 }
 

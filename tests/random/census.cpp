@@ -89,10 +89,10 @@ int census(std::uint64_t from, std::uint64_t to, bool layers, bool each, bool gr
             rejected_crossing += r.stats.interior.rejected_crossing;
             crossed += r.stats.interior.rejected_crossing > 0 ? 1 : 0;
             proven += r.stats.interior.crossings_proven;
+            proven_meshes += r.stats.interior.crossings_proven > 0 ? 1 : 0;
             if (r.stats.interior.rejected_crossing > 0)
                 std::printf("seed %llu: %llu candidates refused by the crossing test\n", static_cast<unsigned long long>(seed),
                             static_cast<unsigned long long>(r.stats.interior.rejected_crossing));
-            proven_meshes += r.stats.interior.crossings_proven > 0 ? 1 : 0;
             if (each)
                 std::printf("seed %llu: %zu points, %.4f degrees\n", static_cast<unsigned long long>(seed), r.quality.points,
                             angle);
