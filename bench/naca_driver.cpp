@@ -78,14 +78,16 @@ int main(int argc, char** argv) {
                 "\"with_figures_ms\":%.1f,"
                 "\"peak_mb\":%.1f,\"quality_mean\":%.4f,\"quality_min\":%.4f,\"angle_min\":%.2f,\"within_sqrt2\":%.4f,"
                 "\"candidates\":%llu,\"rejected_near\":%llu,\"rejected_crossing\":%llu,\"rejected_outside\":%llu,"
-                "\"agreement_rounds\":%d,\"agreement_probes\":%zu}\n",
+                "\"crossings_proven\":%llu,\"blocks_proven\":%llu,\"agreement_rounds\":%d,\"agreement_probes\":%zu}\n",
                 s, opt.triangulator == Triangulator::Delaunay ? "delaunay" : "advancing-front", q.points, q.triangles,
                 t.boundary_ms, t.interior_ms, t.triangulation_ms, t.smoothing_ms,
                 pipeline(t), t.total_ms, peak_mb(), q.quality_mean,
                 q.quality_min, q.angle_min, q.size_ratio_within_sqrt2, static_cast<unsigned long long>(r.stats.interior.candidates),
                 static_cast<unsigned long long>(r.stats.interior.rejected_near),
                 static_cast<unsigned long long>(r.stats.interior.rejected_crossing),
-                static_cast<unsigned long long>(r.stats.interior.rejected_outside), r.stats.agreement.rounds,
+                static_cast<unsigned long long>(r.stats.interior.rejected_outside),
+                static_cast<unsigned long long>(r.stats.interior.crossings_proven),
+                static_cast<unsigned long long>(r.stats.interior.blocks_proven), r.stats.agreement.rounds,
                 r.stats.agreement.probes);
     return 0;
 }

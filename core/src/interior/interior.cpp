@@ -50,6 +50,13 @@ constexpr double kCloseGrowth = 1.2;
 /// of Fig. 9's steps, one of the layered random domains fell to 29.9 degrees.)
 constexpr double kSameSizeStep = 0.01;
 using GridSegment = std::uint32_t;
+/// What a block of the short segments' grid knows of the segments it holds, for the proof made
+/// block by block: the size classes of their ends and the least and largest of the smaller
+/// size at each segment's ends. A block poisoned (class_lo = INT_MIN) is never passed over.
+struct ShortSummary {
+    int class_lo = INT_MAX, class_hi = INT_MIN;
+    double m_lo = HUGE_VAL, m_hi = 0.0;
+};
 /// The grids' cells are c_k wide (size_grid.hpp: an object of class k is c_k / 2 to c_k long).
 /// Against 2 c_k, the default, a query looks at more cells but at about half the entries:
 /// 1.4% to 1.8% fewer instructions on the examples, the same meshes (each example's file,
@@ -110,16 +117,30 @@ public:
         // No forecast (0): nothing to report against.
         report_at_ = budget.expected_points ? 2 * std::max(budget.expected_points, nb) : SIZE_MAX;
         segment_room_ = 2 * n + n / 4;
-        proof_ = opt_.crossing_proof && opt_.proximity > 0.0;
+        proof_ = local_ = opt_.crossing_proof && opt_.proximity > 0.0;
+        detail::reserve_huge(unsafe_, n);
         for (VertexId v = 0; v < nb; ++v) {
-            // The crossing proof (crossing_proof.hpp) needs every two points spaced as (4.22)
-            // asks: the front's are (the test itself, and step()'s check of a new point against
-            // its segment's ends), the boundary's are checked here.
-            if (proof_ && near_other_point(d.point(v), d.rho[v], kNoPoint, kNoPoint) != kNoPoint) proof_ = false;
+            // The crossing proof (crossing_proof.hpp) needs points spaced as (4.22) asks: the
+            // front's are (the test itself, and step()'s check of a new point against its
+            // segment's ends), the boundary's are checked here. Two that are not are both
+            // unsafe: no segment at either is left to the proof.
+            bool crowded = false;
+            if (local_)
+                for_each_near_point(d.point(v), d.rho[v], [&](std::uint32_t u) {
+                    unsafe_[u] = 1;
+                    crowded = true;
+                });
             add_point(d.point(v), d.rho[v], kNoTriangle);
+            if (crowded) {
+                unsafe_[v] = 1;
+                proof_ = false;
+            }
         }
         boundary_count_ = nb;
-        if (!proof_) segments_.reserve(segment_room_);
+        if (!proof_) {
+            segments_.reserve(segment_room_);
+            if (local_) short_.reserve(segment_room_);  // address space: only what is used is made
+        }
         for (size_t i = 0; i < d.segments.size(); ++i) {
             const auto& s = d.segments[i];
             push_segment(s.a, s.b, true);
@@ -149,6 +170,7 @@ private:
     void add_point(Vec2 p, double r, TriangleId home) {
         pts_.push_back(p);
         home_.push_back(home);
+        unsafe_.push_back(0);
         const int k = classes_.class_of(r);
         largest_rho_[static_cast<size_t>(k)] = fmax_inline(largest_rho_[static_cast<size_t>(k)], r);
         points_.push(k, classes_.ix(p.x, k), classes_.iy(p.y, k), GridPoint{p, r});  // entry pts_.size() - 1
@@ -181,12 +203,28 @@ private:
             enter(id);
     }
 
-    // Segment `id` entered in the crossing test's grid.
+    // Segment `id` entered in the crossing test's grids: a short one whose ends are safe in
+    // the short segments' grid, with its block's summary brought up to date; any other in
+    // the grid of those the test always looks at.
     void enter(std::uint32_t id) {
-        const Vec2 pa = pts_[front_[id].a], pb = pts_[front_[id].b];
-        const int k = classes_.class_of(distance(pa, pb));
+        const std::uint32_t ia = front_[id].a, ib = front_[id].b;
+        const Vec2 pa = pts_[ia], pb = pts_[ib];
+        const double len = distance(pa, pb);
+        const int k = classes_.class_of(len);
         const Vec2 mid = 0.5 * (pa + pb);
-        segments_.push(k, classes_.ix(mid.x, k), classes_.iy(mid.y, k), id);
+        const std::int64_t x = classes_.ix(mid.x, k), y = classes_.iy(mid.y, k);
+        const double ra = points_.item(ia).rho, rb = points_.item(ib).rho, m = fmin_inline(ra, rb);
+        if (local_ && !unsafe_[ia] && !unsafe_[ib] && len <= detail::kShortSegment * m) {
+            const int ka = classes_.class_of(ra), kb = classes_.class_of(rb);
+            short_.push_summarised(k, x, y, id, [&](ShortSummary& sum) {
+                sum.class_lo = std::min({sum.class_lo, ka, kb});
+                sum.class_hi = std::max({sum.class_hi, ka, kb});
+                sum.m_lo = fmin_inline(sum.m_lo, m);
+                sum.m_hi = fmax_inline(sum.m_hi, m);
+            });
+        } else {
+            segments_.push(k, x, y, id);
+        }
         Vec2& reach = segment_reach_[static_cast<size_t>(k)];
         // Plus a few units in the last place of the coordinates: the midpoint's rounding, which
         // a short segment far from the origin can make larger than a share of its extent.
@@ -201,7 +239,9 @@ private:
     void drop_proof() {
         proof_ = false;
         segments_ = CellGrid<GridSegment, true>();
+        short_ = CellGrid<GridSegment, true, ShortSummary>();
         segments_.reserve(std::max(segment_room_, front_.size()));
+        if (local_) short_.reserve(std::max(segment_room_, front_.size()));
         segment_reach_.fill(Vec2{0.0, 0.0});
         for (std::uint32_t id = 0; id < front_.size(); ++id) enter(id);
     }
@@ -261,6 +301,39 @@ private:
         return kNoPoint;
     }
 
+    // visit(id) for every point (4.22) would find too close to c, as near_other_point looks
+    // (the classes k-3 .. k+1 around c's).
+    template <class Visit>
+    void for_each_near_point(Vec2 c, double rc, Visit&& visit) const {
+        const int k = classes_.class_of(rc);
+        for (int j = k - 3; j <= k + 1; ++j) {
+            if (j < 1 || j > SizeClasses::kMax || !points_.has_class(j)) continue;
+            const double reach = opt_.proximity * 0.5 * (rc + largest_rho_[static_cast<size_t>(j)]);
+            points_.any_entry_in(j, classes_.ix(c.x - reach, j), classes_.ix(c.x + reach, j), classes_.iy(c.y - reach, j),
+                                 classes_.iy(c.y + reach, j), [&](const GridPoint& q, std::uint32_t id) {
+                                     const double lim = opt_.proximity * 0.5 * (rc + q.rho);
+                                     if (norm2(q.p - c) < lim * lim) visit(id);
+                                     return false;
+                                 });
+        }
+    }
+
+    // Point u is not spaced from some other point as (4.22) asks: no segment at u may be left
+    // to the proof. Those entered already are in the short segments' grid near u, within the
+    // reach of their class (their midpoints' cells): every block there is poisoned.
+    void mark_unsafe(std::uint32_t u) {
+        if (unsafe_[u]) return;
+        unsafe_[u] = 1;
+        const Vec2 p = pts_[u];
+        for (int k = 1; k <= SizeClasses::kMax; ++k) {
+            if (!short_.has_class(k)) continue;
+            const Vec2 reach = segment_reach_[static_cast<size_t>(k)];
+            short_.update_summaries(k, classes_.ix(p.x - reach.x, k), classes_.ix(p.x + reach.x, k),
+                                    classes_.iy(p.y - reach.y, k), classes_.iy(p.y + reach.y, k),
+                                    [](ShortSummary& sum) { sum.class_lo = INT_MIN; });
+        }
+    }
+
     // Does AC or BC cross a segment of the front (any segment ever made but those that gave
     // their point)? Each is checked against the segments of its class and the two next to it,
     // in one scan of the cells around ABC.
@@ -275,8 +348,13 @@ private:
     // same, and so were the point totals of 2,840 random domains.
     // With `ic` (the id of c when c is a point of the front, not a candidate), segments
     // ending at c meet AC and BC there by construction too.
-    bool crosses_front(std::uint32_t ia, std::uint32_t ib, Vec2 c, std::uint32_t ic = kNoPoint) {
-        if (segments_.empty()) return false;  // the crossing proof left every segment out
+    // For a candidate (no `ic`), of size rc, the blocks of short segments whose summaries
+    // satisfy the proof's premise for every side that looks at them are passed over
+    // (crossing_proof.hpp): (4.22) saw every two of the points involved, and their sizes lie
+    // where short segments cannot cross. A closing's C is a point of the front, which points
+    // made after it were not all tested against: its test looks at every block.
+    bool crosses_front(std::uint32_t ia, std::uint32_t ib, Vec2 c, double rc, std::uint32_t ic = kNoPoint) {
+        if (segments_.empty() && short_.empty()) return false;  // the crossing proof left every segment out
         const Vec2 a = pts_[ia], b = pts_[ib];
         struct Edge {
             Vec2 p, lo, hi;
@@ -285,10 +363,29 @@ private:
         const Edge edges[2] = {
             {a, {std::min(a.x, c.x), std::min(a.y, c.y)}, {std::max(a.x, c.x), std::max(a.y, c.y)}, classes_.class_of(distance(a, c))},
             {b, {std::min(b.x, c.x), std::min(b.y, c.y)}, {std::max(b.x, c.x), std::max(b.y, c.y)}, classes_.class_of(distance(b, c))}};
+        // For each side XC: its length, X's size and the classes the sizes at a passed-over
+        // block's segment ends must lie in. C's (4.22) test saw the classes kC - 3 .. kC + 1;
+        // of X and a point P, the later one's test saw the other if their classes are at
+        // most one apart (each test sees one class coarser and three finer than its own).
+        struct Side {
+            double d, rx;
+            int lo, hi;
+        };
+        Side sides[2]{};
+        const bool local = local_ && ic == kNoPoint && !short_.empty();
+        if (local) {
+            const int kc = classes_.class_of(rc);
+            for (int i = 0; i < 2; ++i) {
+                const double rx = points_.item(i == 0 ? ia : ib).rho;
+                const int kx = classes_.class_of(rx);
+                sides[i] = {distance(edges[i].p, c), rx, std::max(kc - 3, kx - 1), std::min(kc + 1, kx + 1)};
+            }
+        }
         const int k_lo = std::max(1, std::min(edges[0].k, edges[1].k) - 1);
         const int k_hi = std::min(SizeClasses::kMax, std::max(edges[0].k, edges[1].k) + 1);
         for (int k = k_lo; k <= k_hi; ++k) {
-            if (!segments_.has_class(k)) continue;
+            const bool longs = segments_.has_class(k), shorts = short_.has_class(k);
+            if (!longs && !shorts) continue;
             const bool use[2] = {std::abs(k - edges[0].k) <= 1, std::abs(k - edges[1].k) <= 1};
             Box box;
             for (int i = 0; i < 2; ++i)
@@ -301,9 +398,11 @@ private:
             const Vec2 reach = segment_reach_[static_cast<size_t>(k)];
             box.lo = box.lo - reach;
             box.hi = box.hi + reach;
+            bool checking = false;  // the block being looked at would have been passed over
             auto crossed = [&](const GridSegment& si) {
                 const FrontSegment& f = front_[si];
                 const Vec2 sa = pts_[f.a], sb = pts_[f.b];
+                if (checking) check_premise(f, ia, ib, edges[0].p, edges[1].p, c, rc, use, sides);
                 const Vec2 slo{std::min(sa.x, sb.x), std::min(sa.y, sb.y)};
                 const Vec2 shi{std::max(sa.x, sb.x), std::max(sa.y, sb.y)};
                 // Whether the boxes meet, for each side of this class (| rather than ||: no
@@ -317,15 +416,68 @@ private:
                 // Segments sharing an end with AB meet AC or BC there by construction.
                 if (f.a == ia || f.a == ib || f.b == ia || f.b == ib || f.a == ic || f.b == ic) return false;
                 for (int i = 0; i < 2; ++i)
-                    if (meets[i] && segments_intersect(edges[i].p, c, sa, sb)) return true;
+                    if (meets[i] && segments_intersect(edges[i].p, c, sa, sb)) {
+                        if (checking) ++stats_.proof_violations;
+                        return true;
+                    }
                 return false;
             };
             auto retired = [&](const GridSegment& si) { return front_[si].consumed; };
-            if (segments_.any_in_retiring(k, classes_.ix(box.lo.x, k), classes_.ix(box.hi.x, k), classes_.iy(box.lo.y, k),
-                                          classes_.iy(box.hi.y, k), retired, crossed))
-                return true;
+            const std::int64_t x0 = classes_.ix(box.lo.x, k), x1 = classes_.ix(box.hi.x, k);
+            const std::int64_t y0 = classes_.iy(box.lo.y, k), y1 = classes_.iy(box.hi.y, k);
+            if (longs && segments_.any_in_retiring(k, x0, x1, y0, y1, retired, crossed)) return true;
+            if (!shorts) continue;
+            if (!local) {
+                if (short_.any_in_retiring(k, x0, x1, y0, y1, retired, crossed)) return true;
+                continue;
+            }
+            auto proven = [&](const ShortSummary& sum) {
+                checking = false;
+                for (int i = 0; i < 2; ++i)
+                    if (use[i] && !(sum.class_lo >= sides[i].lo && sum.class_hi <= sides[i].hi &&
+                                    detail::short_segments_cannot_cross(sides[i].d, sides[i].rx, rc, sum.m_lo, sum.m_hi,
+                                                                        opt_.proximity)))
+                        return false;
+                ++stats_.blocks_proven;
+                // Checking: the block is looked at all the same, each segment against the premise.
+                checking = opt_.check_crossing_proof;
+                return !checking;
+            };
+            if (short_.any_in_retiring_unless(k, x0, x1, y0, y1, proven, retired, crossed)) return true;
         }
         return false;
+    }
+
+    // For check_crossing_proof: whether segment f, in a block the proof would pass over for
+    // candidate c (size rc) of segment ia -> ib, is covered by the proof's premise for every
+    // side XC that looks at the block (crossing_proof.hpp): short, the sizes at its ends in
+    // the side's classes and the smaller of them, m, where two segments of that size cannot
+    // cross XC, and its ends (unless they are A or B, whose segments the test leaves anyway)
+    // outside the disks about X and C that (4.22) keeps points out of, neither of them unsafe.
+    template <class Side>
+    void check_premise(const FrontSegment& f, std::uint32_t ia, std::uint32_t ib, Vec2 a, Vec2 b, Vec2 c, double rc,
+                       const bool use[2], const Side sides[2]) {
+        if (f.a == ia || f.a == ib || f.b == ia || f.b == ib) return;
+        const Vec2 sa = pts_[f.a], sb = pts_[f.b];
+        const double ra = points_.item(f.a).rho, rb = points_.item(f.b).rho, m = fmin_inline(ra, rb);
+        // Neither end unsafe: a point found too close to another after its segments went into
+        // this grid poisons their blocks (mark_unsafe).
+        bool ok = distance(sa, sb) <= detail::kShortSegment * m && !unsafe_[f.a] && !unsafe_[f.b];
+        const double h = 0.5 * opt_.proximity;
+        for (int i = 0; i < 2; ++i) {
+            if (!use[i]) continue;
+            const Vec2 x = i == 0 ? a : b;
+            for (const double r : {ra, rb}) {
+                const int k = classes_.class_of(r);
+                ok = ok && k >= sides[i].lo && k <= sides[i].hi;
+            }
+            ok = ok && detail::short_segments_cannot_cross(sides[i].d, sides[i].rx, rc, m, m, opt_.proximity);
+            for (const Vec2 q : {sa, sb}) {
+                const double lx = h * (sides[i].rx + m), lc = h * (rc + m);
+                ok = ok && !(norm2(q - x) < lx * lx) && !(norm2(q - c) < lc * lc);
+            }
+        }
+        if (!ok) ++stats_.proof_violations;
     }
 
     // The triangle of the boundary triangulation that holds c, reached by a straight walk
@@ -350,12 +502,13 @@ private:
         const Vec2 mid = 0.5 * (pu + pv);
         const std::int64_t x = classes_.ix(mid.x, k), y = classes_.iy(mid.y, k);
         std::uint32_t found = kNoPoint;
-        segments_.any_in_all(k, x, x, y, y,
-                         [&](const GridSegment& si) {
-                             if (front_[si].a != u || front_[si].b != v) return false;
-                             found = si;
-                             return true;
-                         });
+        auto is_it = [&](const GridSegment& si) {
+            if (front_[si].a != u || front_[si].b != v) return false;
+            found = si;
+            return true;
+        };
+        // In either grid: u or v may have become unsafe after the segment was entered.
+        if (!segments_.any_in_all(k, x, x, y, y, is_it) && local_) short_.any_in_all(k, x, x, y, y, is_it);
         return found;
     }
 
@@ -380,7 +533,7 @@ private:
         if (proof_) drop_proof();
         const std::uint32_t bp = find_segment(seg.b, p), pa = find_segment(p, seg.a);
         if (!((bp != kNoPoint && front_[bp].alive) || (pa != kNoPoint && front_[pa].alive))) return;
-        if (crosses_front(seg.a, seg.b, c, p)) return;
+        if (crosses_front(seg.a, seg.b, c, 0.0, p)) return;
         ++closings_;
         for (const auto& [u, v] : {std::pair{seg.a, p}, std::pair{p, seg.b}}) {
             if (const std::uint32_t back = find_segment(v, u); back != kNoPoint && front_[back].alive) {
@@ -450,7 +603,7 @@ private:
             else
                 ++stats_.crossings_proven;
         }
-        if (crosses_front(seg.a, seg.b, c)) {
+        if (crosses_front(seg.a, seg.b, c, rc)) {
             ++stats_.rejected_crossing;
             front_[s].alive = false;
             return;
@@ -467,13 +620,22 @@ private:
             front_[s].alive = false;
             return;
         }
-        // C's (4.22) test left out A and B: the proof needs them spaced too.
-        if (proof_) {
+        // C's (4.22) test left out A and B: the proof needs them spaced too. Where C is too
+        // close to one, both are unsafe from here on.
+        bool near_a = false, near_b = false;
+        if (local_) {
             const double la = opt_.proximity * 0.5 * (ra + rc), lb = opt_.proximity * 0.5 * (rb + rc);
-            if (norm2(c - a) < la * la || norm2(c - b) < lb * lb) drop_proof();
+            near_a = norm2(c - a) < la * la;
+            near_b = norm2(c - b) < lb * lb;
+            if (proof_ && (near_a || near_b)) drop_proof();
         }
         const auto id = static_cast<std::uint32_t>(pts_.size());
         add_point(c, rc, home_c);
+        if (near_a || near_b) {
+            unsafe_[id] = 1;
+            if (near_a) mark_unsafe(seg.a);
+            if (near_b) mark_unsafe(seg.b);
+        }
         ++stats_.accepted;
         front_[s].alive = false;
         front_[s].consumed = true;
@@ -505,6 +667,9 @@ private:
     std::array<double, SizeClasses::kMax + 1> largest_rho_{};  // of the points in each class
     std::array<Vec2, SizeClasses::kMax + 1> segment_reach_{};  // the segments' largest half extents, by class
     CellGrid<GridSegment, true> segments_;
+    // The short segments whose ends are safe, once the proof is made block by block.
+    CellGrid<GridSegment, true, ShortSummary> short_;
+    Array<char> unsafe_;  // by point: too close to another point for (4.22)'s spacing (mark_unsafe)
     size_t segment_room_ = 0;  // entries reserved in segments_ when every segment is entered
     // While proof_ holds, short segments (the boundary's too) stay out of the segments' grid,
     // and each candidate's crossing test first proves that they cannot cross its sides
@@ -516,6 +681,9 @@ private:
     // segment and the run goes on as if the proof had never been used: the mesh is the same
     // either way.
     bool proof_ = true;
+    // The proof block by block (crosses_front), which the whole-domain proof gives way to: in
+    // use wherever the whole-domain one may be (InteriorOptions::crossing_proof).
+    bool local_ = true;
     double size_lo_ = HUGE_VAL, size_hi_ = 0.0;  // the least and largest size of the points
     int class_lo_ = INT_MAX, class_hi_ = INT_MIN;  // and their classes
 };

@@ -41,8 +41,16 @@ namespace meshd::core::detail {
 /// order of the loops over x, then y, that it replaces: most cells of a query's rectangle are
 /// empty, and a query looked at each (on the load run's square, the loops over cells were
 /// two thirds of the grids' instructions in the crossing test).
-template <class Item, bool kRetiring = false>
+///
+/// With a Summary type other than NoSummary, each block also keeps one Summary, which the
+/// user updates as it enters items (push_summarised) and which a query can read to pass over
+/// the whole block (any_in_retiring_unless).
+struct NoSummary {};
+
+template <class Item, bool kRetiring = false, class Summary = NoSummary>
 class CellGrid {
+    static constexpr bool kSummaries = !std::is_same_v<Summary, NoSummary>;
+
 public:
     static constexpr std::uint32_t kNone = UINT32_MAX;
 
@@ -55,6 +63,7 @@ public:
         reserve_huge(entries_, entries);
         reserve_huge(blocks_, entries / 32);
         reserve_huge(masks_, entries / 32);
+        if constexpr (kSummaries) reserve_huge(summaries_, entries / 32);
         if (2 * (entries / 32) > slots_.size()) rehash(std::bit_ceil(2 * (entries / 32)));
     }
 
@@ -72,12 +81,30 @@ public:
     void push(int k, std::int64_t x, std::int64_t y, const Item& item) {
         classes_ |= class_bit(k);
         const std::uint32_t b = block(k, x, y);
+        last_block_ = b;
         const size_t c = within(x, y);
         std::uint32_t& h = blocks_[b].head[c];
         entries_.push_back({item, h});
         h = static_cast<std::uint32_t>(entries_.size() - 1);
         masks_[b].live |= static_cast<std::uint16_t>(1u << c);
         masks_[b].ever |= static_cast<std::uint16_t>(1u << c);
+    }
+    /// push(), then update(summary) on the summary of the item's block.
+    template <class Update>
+    void push_summarised(int k, std::int64_t x, std::int64_t y, const Item& item, Update&& update) {
+        static_assert(kSummaries);
+        push(k, x, y, item);
+        update(summaries_[last_block_]);
+    }
+    /// update(summary) on the summary of every existing block of class k that holds a cell of
+    /// [x0, x1] x [y0, y1].
+    template <class Update>
+    void update_summaries(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Update&& update) {
+        static_assert(kSummaries);
+        if (!(classes_ & class_bit(k))) return;
+        for (std::int64_t bx = x0 >> 2; bx <= x1 >> 2; ++bx)
+            for (std::int64_t by = y0 >> 2; by <= y1 >> 2; ++by)
+                if (const std::uint32_t b = find_block(k, bx << 2, by << 2); b != kNone) update(summaries_[b]);
     }
     std::uint32_t next(std::uint32_t entry) const { return entries_[entry].next; }
     const Item& item(std::uint32_t entry) const { return entries_[entry].item; }
@@ -106,23 +133,19 @@ public:
     bool any_in_retiring(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Retire&& retire,
                          Visit&& visit) {
         static_assert(kRetiring);
-        return for_cells(*this, k, x0, x1, y0, y1, &Masks::live, [&](std::uint32_t b, size_t c) {
-            Block& blk = blocks_[b];
-            std::uint32_t* link = &blk.head[c];
-            for (std::uint32_t e = *link; e != kNone; e = *link) {
-                Entry& entry = entries_[e];
-                if (retire(entry.item)) {
-                    *link = entry.next;
-                    entry.next = blk.retired[c];
-                    blk.retired[c] = e;
-                    continue;
-                }
-                if (visit(entry.item)) return true;
-                link = &entry.next;
-            }
-            if (blk.head[c] == kNone) masks_[b].live &= static_cast<std::uint16_t>(~(1u << c));
-            return false;
-        });
+        return for_cells(*this, k, x0, x1, y0, y1, &Masks::live,
+                         [&](std::uint32_t b, size_t c) { return retiring_cell(b, c, retire, visit); });
+    }
+
+    /// any_in_retiring(), passing over every block for which skip(its summary) is true.
+    template <class Skip, class Retire, class Visit>
+    bool any_in_retiring_unless(int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1, Skip&& skip,
+                                Retire&& retire, Visit&& visit) {
+        static_assert(kRetiring && kSummaries);
+        return for_cells(
+            *this, k, x0, x1, y0, y1, &Masks::live,
+            [&](std::uint32_t b, size_t c) { return retiring_cell(b, c, retire, visit); },
+            [&](std::uint32_t b) { return !skip(static_cast<const Summary&>(summaries_[b])); });
     }
 
     /// any_in() over the retired items as well.
@@ -139,6 +162,26 @@ public:
     }
 
 private:
+    // The cell c of block b for any_in_retiring: retires what `retire` says, visits the rest.
+    template <class Retire, class Visit>
+    bool retiring_cell(std::uint32_t b, size_t c, Retire& retire, Visit& visit) {
+        Block& blk = blocks_[b];
+        std::uint32_t* link = &blk.head[c];
+        for (std::uint32_t e = *link; e != kNone; e = *link) {
+            Entry& entry = entries_[e];
+            if (retire(entry.item)) {
+                *link = entry.next;
+                entry.next = blk.retired[c];
+                blk.retired[c] = e;
+                continue;
+            }
+            if (visit(entry.item)) return true;
+            link = &entry.next;
+        }
+        if (blk.head[c] == kNone) masks_[b].live &= static_cast<std::uint16_t>(~(1u << c));
+        return false;
+    }
+
     struct NoChains {};
     struct alignas(64) Block {
         std::array<std::uint32_t, 16> head;
@@ -155,9 +198,13 @@ private:
     // bit is set in the block's mask `which` (block by block, within a block along x, then y),
     // until it returns true; returns whether it did. (Self: the grid, const or not, so that
     // the blocks are as writable as the grid.)
-    template <class Self, class Cell>
+    // `keep(block id)`, when given, decides whether a block's cells are visited at all.
+    struct EveryBlock {
+        bool operator()(std::uint32_t) const { return true; }
+    };
+    template <class Self, class Cell, class Keep = EveryBlock>
     static bool for_cells(Self& self, int k, std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1,
-                          std::uint16_t Masks::*which, Cell&& cell) {
+                          std::uint16_t Masks::*which, Cell&& cell, Keep&& keep = Keep{}) {
         if (!(self.classes_ & class_bit(k))) return false;  // no item of this class anywhere
         for (std::int64_t bx = x0 >> 2; bx <= x1 >> 2; ++bx) {
             // The columns x0..x1 within this block: 4 bits each.
@@ -171,7 +218,9 @@ private:
                 const auto ya = static_cast<unsigned>(std::max(y0, by << 2) & 3);
                 const auto yb = static_cast<unsigned>(std::min(y1, (by << 2) + 3) & 3);
                 const unsigned rows = (((1u << (yb - ya + 1)) - 1u) << ya) * 0x1111u;
-                for (unsigned m = columns & rows & self.masks_[b].*which; m != 0; m &= m - 1)
+                const unsigned cells = columns & rows & self.masks_[b].*which;
+                if (cells == 0 || !keep(b)) continue;  // only a block with cells to visit asks keep
+                for (unsigned m = cells; m != 0; m &= m - 1)
                     if (cell(b, static_cast<size_t>(std::countr_zero(m)))) return true;
             }
         }
@@ -216,6 +265,7 @@ private:
         if constexpr (kRetiring) fresh.retired.fill(kNone);
         blocks_.push_back(fresh);
         masks_.push_back(Masks{});
+        if constexpr (kSummaries) summaries_.push_back(Summary{});
         slots_[s] = {key, static_cast<std::uint32_t>(blocks_.size() - 1)};
         return slots_[s].block;
     }
@@ -234,6 +284,9 @@ private:
     Array<Block> blocks_;
     Array<Masks> masks_;  // by block
     Array<Entry> entries_;
+    struct NoSummaries {};
+    [[no_unique_address]] std::conditional_t<kSummaries, Array<Summary>, NoSummaries> summaries_;  // by block
+    std::uint32_t last_block_ = kNone;  // the block of the last push
 };
 
 using CellMap = CellGrid<std::uint32_t>;

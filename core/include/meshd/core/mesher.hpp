@@ -49,8 +49,13 @@ struct InteriorOptions {
     /// Where the sizes stay within two neighbouring size classes and every two points are
     /// spaced as (4.22) asks, the front's short segments are left out of the crossing test,
     /// which a proof shows they cannot fail (interior/crossing_proof.hpp): the same points,
-    /// sooner. false: every segment is tested (the tests compare the two).
+    /// sooner. Elsewhere the proof is made block by block of the segments' grid, from the
+    /// sizes and size classes of the short segments each block holds. false: every segment is
+    /// tested (the tests compare the two).
     bool crossing_proof = true;
+    /// For the tests: every block the proof would pass over is tested all the same, and each
+    /// of its segments is checked against the proof's premise (InteriorStats::proof_violations).
+    bool check_crossing_proof = false;
 };
 
 /// The most points one mesh may have, whatever max_points says: vertex and triangle ids are
@@ -131,6 +136,11 @@ struct InteriorStats {
     /// Candidates whose crossing test left the short segments to the proof
     /// (InteriorOptions::crossing_proof).
     std::uint64_t crossings_proven = 0;
+    /// Blocks of short segments the crossing test passed over by the proof made block by block.
+    std::uint64_t blocks_proven = 0;
+    /// Segments the block-by-block proof passed over that its premise does not cover, found by
+    /// InteriorOptions::check_crossing_proof: 0 unless the proof's bookkeeping is wrong.
+    std::uint64_t proof_violations = 0;
     std::uint64_t rejected_outside = 0;   ///< outside the domain or across a constraint
     /// Candidates whose size is more than kFieldJump times off both ends of their segment (the
     /// field changes faster than one element can follow).
