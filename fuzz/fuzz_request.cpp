@@ -1,8 +1,9 @@
 // A request body, as the server would get it: parsed, validated, its size forecast, and when
 // the forecast is small, meshed, the mesh held to check_mesh. Any answer but a 4xx problem
 // (a 500, an escaped exception, a broken mesh) or a sanitizer report is a finding; so is a
-// hang (libFuzzer's -timeout), and a mesh that comes out different without the interior's
-// crossing proof (InteriorOptions::crossing_proof) where the proof was used.
+// hang (libFuzzer's -timeout), a mesh that comes out different without the interior's
+// crossing proof (InteriorOptions::crossing_proof) where the proof was used, and a segment
+// the proof passed over that its premise does not cover (InteriorOptions::check_crossing_proof).
 
 #include <cstdint>
 #include <cstdio>
@@ -35,7 +36,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 std::fprintf(stderr, "broken mesh: %s\n", broken.front().c_str());
                 std::abort();
             }
-            if (r.stats.interior.crossings_proven > 0) {
+            if (r.stats.interior.crossings_proven > 0 || r.stats.interior.blocks_proven > 0) {
+                if (r.stats.interior.blocks_proven > 0) {
+                    // Every segment the block-by-block proof passed over, against its premise.
+                    o.interior.check_crossing_proof = true;
+                    const core::MeshResult checked = core::generate_mesh(domain, req.density, o);
+                    if (checked.stats.interior.proof_violations != 0) {
+                        std::fprintf(stderr, "a segment the crossing proof passed over is not covered by its premise\n");
+                        std::abort();
+                    }
+                    o.interior.check_crossing_proof = false;
+                }
                 o.interior.crossing_proof = false;
                 const core::MeshResult whole = core::generate_mesh(domain, req.density, o);
                 bool same = whole.mesh.point_count() == r.mesh.point_count() &&
