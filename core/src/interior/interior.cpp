@@ -677,12 +677,13 @@ private:
     // (4.22) ensures only for the classes it looks at: it holds while all sizes are in two
     // neighbouring classes (each point's test then sees every other), the boundary's points
     // are spaced (checked at the start) and each new point is spaced from its segment's ends.
-    // The first time any of this fails, or a closing needs the grid, the grid takes every
-    // segment and the run goes on as if the proof had never been used: the mesh is the same
-    // either way.
+    // The first time any of this fails, or a closing needs the grid, every segment goes into
+    // the grids (drop_proof) and the proof is made block by block from then on: the mesh is
+    // the same either way.
     bool proof_ = true;
-    // The proof block by block (crosses_front), which the whole-domain proof gives way to: in
-    // use wherever the whole-domain one may be (InteriorOptions::crossing_proof).
+    // The proof block by block (enter, crosses_front): short segments with safe ends in short_,
+    // whose blocks' summaries say where they cannot cross. In use wherever the whole-domain
+    // proof may be (InteriorOptions::crossing_proof).
     bool local_ = true;
     double size_lo_ = HUGE_VAL, size_hi_ = 0.0;  // the least and largest size of the points
     int class_lo_ = INT_MAX, class_hi_ = INT_MIN;  // and their classes

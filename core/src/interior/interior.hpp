@@ -13,8 +13,8 @@
 /// more, would otherwise die after one row. The run ends when no segment is active.
 ///
 /// Neighbour and crossing queries go through hashed grids by size class (the crossing test
-/// leaves out the short segments that crossing_proof.hpp shows cannot cross, where its
-/// conditions hold: nearly uniform fields); being inside is decided by a straight walk in the
+/// leaves out the short segments that crossing_proof.hpp shows cannot cross: all of them on
+/// nearly uniform fields, block by block of their grid on graded ones); being inside is decided by a straight walk in the
 /// constrained triangulation of the boundary, with exact predicates. Each step costs O(1) on
 /// graded meshes: the run is linear in the number of points.
 
