@@ -70,8 +70,8 @@ int census(std::uint64_t from, std::uint64_t to, bool layers, bool each, bool gr
     // The interior's candidates, and those its crossing test refused (after the proximity
     // test (4.22) passed them): how often that test, a tenth of a small request, decides; and
     // the candidates whose test left the short segments to the crossing proof, in how many meshes.
-    std::uint64_t candidates = 0, rejected_crossing = 0, proven = 0;
-    int proven_meshes = 0;
+    std::uint64_t candidates = 0, rejected_crossing = 0, proven = 0, blocks = 0;
+    int proven_meshes = 0, block_meshes = 0;
     for (std::uint64_t seed = from; seed <= to; ++seed) {
         const auto c = case_for(seed, layers);
         if (!c || (graded_only && !c->rc.density.gradation)) continue;
@@ -90,6 +90,8 @@ int census(std::uint64_t from, std::uint64_t to, bool layers, bool each, bool gr
             crossed += r.stats.interior.rejected_crossing > 0 ? 1 : 0;
             proven += r.stats.interior.crossings_proven;
             proven_meshes += r.stats.interior.crossings_proven > 0 ? 1 : 0;
+            blocks += r.stats.interior.blocks_proven;
+            block_meshes += r.stats.interior.blocks_proven > 0 ? 1 : 0;
             if (r.stats.interior.rejected_crossing > 0)
                 std::printf("seed %llu: %llu candidates refused by the crossing test\n", static_cast<unsigned long long>(seed),
                             static_cast<unsigned long long>(r.stats.interior.rejected_crossing));
@@ -130,9 +132,11 @@ int census(std::uint64_t from, std::uint64_t to, bool layers, bool each, bool gr
                 "%d with closing rounds; %d with the jump gradation\n",
                 below, meshed, refused, invalid, sum / std::max(meshed, 1), points, closed, graded);
     std::printf("interior: %llu candidates, %llu refused by the crossing test, in %d meshes; %llu left the short "
-                "segments to the crossing proof, in %d meshes\n",
+                "segments to the crossing proof, in %d meshes; %llu blocks of short segments passed over by the "
+                "proof made block by block, in %d meshes\n",
                 static_cast<unsigned long long>(candidates), static_cast<unsigned long long>(rejected_crossing), crossed,
-                static_cast<unsigned long long>(proven), proven_meshes);
+                static_cast<unsigned long long>(proven), proven_meshes, static_cast<unsigned long long>(blocks),
+                block_meshes);
     return 0;
 }
 
