@@ -167,6 +167,86 @@ TEST(CellGrid, RetiredItemsLeaveTheBoxQueriesAndStayForTheFullLookup) {
     }
 }
 
+// Per-block summaries (the interior's block-by-block crossing proof): each block's summary
+// is what push_summarised folded into it, by the block of 4 x 4 cells an item's cell lies in;
+// a query passes over exactly the blocks `skip` names, visiting the others' live items as
+// any_in_retiring would; update_summaries reaches every block that meets its rectangle.
+TEST(CellGrid, SummariesFollowTheBlocksAndLetAQueryPassOverThem) {
+    struct Sum {
+        std::uint32_t count = 0, largest = 0;
+    };
+    std::mt19937_64 rng(17);
+    std::uniform_int_distribution<std::int64_t> coord(-20, 20);
+    CellGrid<std::uint32_t, true, Sum> grid;
+    std::vector<Placed> all;
+    for (std::uint32_t id = 0; id < 3000; ++id) {
+        const Placed p{4, coord(rng), coord(rng), id};
+        grid.push_summarised(p.k, p.x, p.y, p.id, [&](Sum& s) {
+            ++s.count;
+            s.largest = std::max(s.largest, id);
+        });
+        all.push_back(p);
+    }
+    // The summary of the block holding (x, y), from the items themselves.
+    auto block_of = [](std::int64_t v) { return v >> 2; };
+    auto expected = [&](std::int64_t bx, std::int64_t by) {
+        Sum s;
+        for (const Placed& p : all)
+            if (block_of(p.x) == bx && block_of(p.y) == by) {
+                ++s.count;
+                s.largest = std::max(s.largest, p.id);
+            }
+        return s;
+    };
+    auto retire = [](std::uint32_t id) { return id % 5 == 0; };
+    std::uniform_int_distribution<std::int64_t> width(0, 9);
+    for (int q = 0; q < 300; ++q) {
+        const std::int64_t x0 = coord(rng), y0 = coord(rng), x1 = x0 + width(rng), y1 = y0 + width(rng);
+        // Pass over the blocks whose largest id is odd; each summary asked must be its block's.
+        std::vector<std::uint32_t> seen;
+        bool summaries_right = true;
+        grid.any_in_retiring_unless(
+            4, x0, x1, y0, y1,
+            [&](const Sum& s) {
+                bool found = false;
+                for (std::int64_t bx = block_of(x0); bx <= block_of(x1); ++bx)
+                    for (std::int64_t by = block_of(y0); by <= block_of(y1); ++by) {
+                        const Sum e = expected(bx, by);
+                        found = found || (e.count == s.count && e.largest == s.largest);
+                    }
+                summaries_right = summaries_right && found;
+                return s.largest % 2 == 1;
+            },
+            retire,
+            [&](std::uint32_t id) {
+                seen.push_back(id);
+                return false;
+            });
+        EXPECT_TRUE(summaries_right) << q;
+        std::vector<std::uint32_t> want;
+        for (const std::uint32_t id : brute(all, 4, x0, x1, y0, y1)) {
+            const Placed& p = all[id];
+            if (!retire(id) && expected(block_of(p.x), block_of(p.y)).largest % 2 == 0) want.push_back(id);
+        }
+        std::sort(seen.begin(), seen.end());
+        ASSERT_EQ(seen, want) << q;
+    }
+    // Marking every block that meets a rectangle reaches those and no other.
+    grid.update_summaries(4, -3, 5, 2, 9, [](Sum& s) { s.largest = 1000001; });
+    std::uint32_t marked = 0, blocks = 0;
+    grid.any_in_retiring_unless(
+        4, -20, 20, -20, 20,
+        [&](const Sum& s) {
+            ++blocks;
+            marked += s.largest == 1000001 ? 1 : 0;
+            return true;
+        },
+        retire, [](std::uint32_t) { return false; });
+    // Blocks -1..1 along x and 0..2 along y, all holding items (3,000 items over 11 x 11 blocks).
+    EXPECT_EQ(marked, 9u);
+    EXPECT_GT(blocks, marked);
+}
+
 // The order of a query's visits, which the interior's proximity test depends on (the first
 // offending point decides where the front closes): block by block (4 x 4 cells, by column
 // block, then row block), within a block cell by cell along x, then y, and within a cell the
