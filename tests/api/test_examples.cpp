@@ -137,12 +137,7 @@ TEST(Examples, TheBlockByBlockCrossingProofCoversWhatItPassesOver) {
         EXPECT_EQ(checked.stats.interior.blocks_proven > 0, proven.stats.interior.blocks_proven > 0) << f.filename();
         for (const core::MeshResult* m : {&checked, &proven}) {
             ASSERT_EQ(m->mesh.triangles.size(), plain.mesh.triangles.size()) << f.filename();
-            bool same = m->mesh.point_count() == plain.mesh.point_count();
-            for (size_t i = 0; same && i < plain.mesh.point_count(); ++i)
-                same = m->mesh.x[i] == plain.mesh.x[i] && m->mesh.y[i] == plain.mesh.y[i];
-            for (size_t t = 0; same && t < plain.mesh.triangles.size(); ++t)
-                same = m->mesh.triangles[t].v == plain.mesh.triangles[t].v;
-            EXPECT_TRUE(same) << f.filename();
+            EXPECT_TRUE(test::same_mesh(m->mesh, plain.mesh)) << f.filename();
         }
         blocks += proven.stats.interior.blocks_proven;
         graded_used += proven.stats.interior.blocks_proven > 0 && proven.stats.interior.crossings_proven == 0 ? 1 : 0;

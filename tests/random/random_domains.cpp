@@ -182,4 +182,13 @@ std::pair<double, Vec2> smallest_free_angle(const Mesh& m) {
     return worst;
 }
 
+bool same_mesh(const Mesh& a, const Mesh& b) {
+    if (a.point_count() != b.point_count() || a.triangles.size() != b.triangles.size()) return false;
+    for (size_t i = 0; i < a.point_count(); ++i)
+        if (a.x[i] != b.x[i] || a.y[i] != b.y[i]) return false;
+    for (size_t t = 0; t < a.triangles.size(); ++t)
+        if (a.triangles[t].v != b.triangles[t].v) return false;
+    return true;
+}
+
 }  // namespace meshd::test

@@ -36,4 +36,8 @@ std::optional<core::BoundaryLayerSpec> layers_for(std::uint64_t seed, const Rand
 // domain alone (both sides on curves), and where it is.
 std::pair<double, core::Vec2> smallest_free_angle(const core::Mesh& m);
 
+// Whether two meshes are the same bit for bit: the points in the same order, and the same
+// corners for each triangle (what the interior's crossing proofs must leave unchanged).
+bool same_mesh(const core::Mesh& a, const core::Mesh& b);
+
 }  // namespace meshd::test

@@ -78,23 +78,12 @@ public:
         const std::uint32_t b = find_block(k, x, y);
         return b == kNone ? kNone : blocks_[b].head[within(x, y)];
     }
-    void push(int k, std::int64_t x, std::int64_t y, const Item& item) {
-        classes_ |= class_bit(k);
-        const std::uint32_t b = block(k, x, y);
-        last_block_ = b;
-        const size_t c = within(x, y);
-        std::uint32_t& h = blocks_[b].head[c];
-        entries_.push_back({item, h});
-        h = static_cast<std::uint32_t>(entries_.size() - 1);
-        masks_[b].live |= static_cast<std::uint16_t>(1u << c);
-        masks_[b].ever |= static_cast<std::uint16_t>(1u << c);
-    }
+    void push(int k, std::int64_t x, std::int64_t y, const Item& item) { push_into_block(k, x, y, item); }
     /// push(), then update(summary) on the summary of the item's block.
     template <class Update>
     void push_summarised(int k, std::int64_t x, std::int64_t y, const Item& item, Update&& update) {
         static_assert(kSummaries);
-        push(k, x, y, item);
-        update(summaries_[last_block_]);
+        update(summaries_[push_into_block(k, x, y, item)]);
     }
     /// update(summary) on the summary of every existing block of class k that holds a cell of
     /// [x0, x1] x [y0, y1].
@@ -162,6 +151,19 @@ public:
     }
 
 private:
+    // push(); returns the item's block.
+    std::uint32_t push_into_block(int k, std::int64_t x, std::int64_t y, const Item& item) {
+        classes_ |= class_bit(k);
+        const std::uint32_t b = block(k, x, y);
+        const size_t c = within(x, y);
+        std::uint32_t& h = blocks_[b].head[c];
+        entries_.push_back({item, h});
+        h = static_cast<std::uint32_t>(entries_.size() - 1);
+        masks_[b].live |= static_cast<std::uint16_t>(1u << c);
+        masks_[b].ever |= static_cast<std::uint16_t>(1u << c);
+        return b;
+    }
+
     // The cell c of block b for any_in_retiring: retires what `retire` says, visits the rest.
     template <class Retire, class Visit>
     bool retiring_cell(std::uint32_t b, size_t c, Retire& retire, Visit& visit) {
@@ -286,7 +288,6 @@ private:
     Array<Entry> entries_;
     struct NoSummaries {};
     [[no_unique_address]] std::conditional_t<kSummaries, Array<Summary>, NoSummaries> summaries_;  // by block
-    std::uint32_t last_block_ = kNone;  // the block of the last push
 };
 
 using CellMap = CellGrid<std::uint32_t>;
