@@ -9,6 +9,9 @@
 // - BM_InverseDistance<M>: eq. 6.1 queries against the boundary of the previous case: <0> as
 //   the pipeline asks (term by term up to kDirectSources sources), <1> the naive scalar sum,
 //   <2> the treecode.
+// - BM_InterpolatedField: eq. 6.1 as the pipeline asks it on examples/fig9.json's domain
+//   (378 sources, through the query cells): at the midpoints of the mesh's edges, in the
+//   order measure_quality asks them (neighbours one after another), per query.
 
 #include <benchmark/benchmark.h>
 
@@ -17,6 +20,8 @@
 #include <random>
 
 #include "boundary/boundary.hpp"
+#include "density/size_field.hpp"
+#include "meshd/core/mesher.hpp"
 #include "boundary/spacing.hpp"
 #include "naca_case.hpp"
 
@@ -114,5 +119,42 @@ void BM_InverseDistance(benchmark::State& state) {
 BENCHMARK_TEMPLATE(BM_InverseDistance, 0)->RangeMultiplier(10)->Range(1, 1000);
 BENCHMARK_TEMPLATE(BM_InverseDistance, 1)->RangeMultiplier(10)->Range(1, 100)->Complexity(benchmark::oN);
 BENCHMARK_TEMPLATE(BM_InverseDistance, 2)->RangeMultiplier(10)->Range(1, 1000)->Complexity(benchmark::oLogN);
+
+void BM_InterpolatedField(benchmark::State& state) {
+    // examples/fig9.json: NACA 0012 in a far field of radius 5, eq. 6.1 inside.
+    DomainSpec spec;
+    spec.points = {{"F", {5.5, 0.0}}};
+    NacaSpec naca;
+    naca.code = "0012";
+    spec.curves.push_back({"wing", naca, std::nullopt, std::nullopt, std::string("wall")});
+    spec.curves.push_back({"farfield", ArcShape{{0.5, 0.0}, ArcDirection::Ccw}, "F", "F", std::string("farfield")});
+    spec.loops = {{{"farfield", false}}, {{"wing", false}}};
+    const Domain dom = build_domain(spec);
+    DensitySpec density;
+    density.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
+                      {"wing", std::string("0.05*sqrt((x+0.01)^2+y^2)")}};
+    density.interior = InteriorMode::Interpolate;
+    density.min = 0.002;
+    const MeshResult mesh = generate_mesh(dom, density);
+    const Mesh& m = mesh.mesh;
+    std::vector<Vec2> mid;
+    for (TriangleId t = 0; t < m.triangles.size(); ++t)
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            const Triangle& T = m.triangles[t];
+            if (T.n[i] != kNoTriangle && T.n[i] < t) continue;
+            mid.push_back(0.5 * (m.point(T.v[(i + 1) % 3]) + m.point(T.v[(i + 2) % 3])));
+        }
+    SizeField rho(density, dom);
+    set_interpolation_sources(rho, discretise_boundary(dom, rho));
+    std::vector<double> out(mid.size());
+    rho.interior(mid.data(), mid.size(), out.data());  // the query cells made
+    for (auto _ : state) {
+        rho.interior(mid.data(), mid.size(), out.data());
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * mid.size()));
+    state.counters["queries"] = static_cast<double>(mid.size());
+}
+BENCHMARK(BM_InterpolatedField)->Unit(benchmark::kMillisecond);
 
 }  // namespace

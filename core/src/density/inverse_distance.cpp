@@ -161,10 +161,11 @@ bool sum_by_fours_sse2(const double* x, const double* y, const double* r, size_t
 struct WideSums {
     __m256d px, py, num4, den4;
     __m128 one, low, high, out;
+    __m256 out8;
     __attribute__((target("avx"))) explicit WideSums(Vec2 p)
         : px(_mm256_set1_pd(p.x)), py(_mm256_set1_pd(p.y)), num4(_mm256_setzero_pd()), den4(_mm256_setzero_pd()),
           one(_mm_set1_ps(1.0f)), low(_mm_set1_ps(std::numeric_limits<float>::min())),
-          high(_mm_set1_ps(std::numeric_limits<float>::max())), out(_mm_setzero_ps()) {}
+          high(_mm_set1_ps(std::numeric_limits<float>::max())), out(_mm_setzero_ps()), out8(_mm256_setzero_ps()) {}
     // The sources [i, i + 4) in the lanes of `valid`.
     __attribute__((target("avx"))) void step(const double* x, const double* y, const double* r, size_t i, __m128 valid) {
         const __m256d dx = _mm256_sub_pd(px, _mm256_loadu_pd(x + i)), dy = _mm256_sub_pd(py, _mm256_loadu_pd(y + i));
@@ -180,8 +181,32 @@ struct WideSums {
         for (; i + 4 <= e; i += 4) step(x, y, r, i, _mm_castsi128_ps(_mm_set1_epi32(-1)));
         if (i < e) step(x, y, r, i, first_lanes(e - i));
     }
+    // The same sums, eight sources a step while eight are left: their weights by one square
+    // root and one division of eight floats, added four at a time as two steps of add() would
+    // add them (lane k of each sum takes the sources b + k, b + k + 4, ... in order).
+    __attribute__((target("avx"))) void add_by_eights(const double* x, const double* y, const double* r, size_t b,
+                                                      size_t e) {
+        const __m256 one8 = _mm256_set1_ps(1.0f), low8 = _mm256_set1_ps(std::numeric_limits<float>::min()),
+                     high8 = _mm256_set1_ps(std::numeric_limits<float>::max());
+        size_t i = b;
+        for (; i + 8 <= e; i += 8) {
+            const __m256d dx0 = _mm256_sub_pd(px, _mm256_loadu_pd(x + i)), dy0 = _mm256_sub_pd(py, _mm256_loadu_pd(y + i));
+            const __m256d dx1 = _mm256_sub_pd(px, _mm256_loadu_pd(x + i + 4)), dy1 = _mm256_sub_pd(py, _mm256_loadu_pd(y + i + 4));
+            const __m128 d0 = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx0, dx0), _mm256_mul_pd(dy0, dy0)));
+            const __m128 d1 = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx1, dx1), _mm256_mul_pd(dy1, dy1)));
+            const __m256 d = _mm256_insertf128_ps(_mm256_castps128_ps256(d0), d1, 1);
+            out8 = _mm256_or_ps(out8, _mm256_or_ps(_mm256_cmp_ps(d, low8, _CMP_LT_OQ), _mm256_cmp_ps(d, high8, _CMP_GT_OQ)));
+            const __m256 w = _mm256_div_ps(one8, _mm256_sqrt_ps(d));
+            const __m256d w0 = _mm256_cvtps_pd(_mm256_castps256_ps128(w)), w1 = _mm256_cvtps_pd(_mm256_extractf128_ps(w, 1));
+            den4 = _mm256_add_pd(den4, w0);
+            num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i), w0));
+            den4 = _mm256_add_pd(den4, w1);
+            num4 = _mm256_add_pd(num4, _mm256_mul_pd(_mm256_loadu_pd(r + i + 4), w1));
+        }
+        add(x, y, r, i, e);
+    }
     __attribute__((target("avx"))) bool sums(double& num, double& den) const {
-        if (_mm_movemask_ps(out) != 0) return false;
+        if (_mm_movemask_ps(out) != 0 || _mm256_movemask_ps(out8) != 0) return false;
         alignas(16) double lanes[2];
         _mm_store_pd(lanes, _mm_add_pd(_mm256_castpd256_pd128(num4), _mm256_extractf128_pd(num4, 1)));
         num = lanes[0] + lanes[1];
@@ -191,9 +216,8 @@ struct WideSums {
     }
 };
 
-// sum_by_fours_sse2 on 256-bit registers where the processor has them (AVX): eight sources a
-// step, their weights by one square root and one division of eight floats, added four at a
-// time to the same sums, so that lane k of each sum takes the sources k, k + 4, k + 8, ... in
+// sum_by_fours_sse2 on 256-bit registers where the processor has them (AVX), eight sources a
+// step (WideSums::add_by_eights): lane k of each sum takes the sources k, k + 4, k + 8, ... in
 // order, as the two 128-bit sums' lanes do, and the lanes are added in the same pairs: the
 // same result to the bit, in about 0.53 ns a source instead of 1.28 (BM_InverseDistance<0>
 // at 1,495 sources, 2026-12-03). Sums the sources [0, 4 floor(n / 4)); false when a squared
@@ -201,35 +225,15 @@ struct WideSums {
 __attribute__((target("avx"))) bool sum_by_fours_avx(const double* x, const double* y, const double* r, size_t n,
                                                       Vec2 p, double& num, double& den) {
     WideSums s(p);
-    size_t i = 0;
-    const __m256 one8 = _mm256_set1_ps(1.0f), low8 = _mm256_set1_ps(std::numeric_limits<float>::min()),
-                 high8 = _mm256_set1_ps(std::numeric_limits<float>::max());
-    __m256 out8 = _mm256_setzero_ps();
-    for (; i + 8 <= n; i += 8) {
-        const __m256d dx0 = _mm256_sub_pd(s.px, _mm256_loadu_pd(x + i)), dy0 = _mm256_sub_pd(s.py, _mm256_loadu_pd(y + i));
-        const __m256d dx1 = _mm256_sub_pd(s.px, _mm256_loadu_pd(x + i + 4)), dy1 = _mm256_sub_pd(s.py, _mm256_loadu_pd(y + i + 4));
-        const __m128 d0 = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx0, dx0), _mm256_mul_pd(dy0, dy0)));
-        const __m128 d1 = _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(dx1, dx1), _mm256_mul_pd(dy1, dy1)));
-        const __m256 d = _mm256_insertf128_ps(_mm256_castps128_ps256(d0), d1, 1);
-        out8 = _mm256_or_ps(out8, _mm256_or_ps(_mm256_cmp_ps(d, low8, _CMP_LT_OQ), _mm256_cmp_ps(d, high8, _CMP_GT_OQ)));
-        const __m256 w = _mm256_div_ps(one8, _mm256_sqrt_ps(d));
-        const __m256d w0 = _mm256_cvtps_pd(_mm256_castps256_ps128(w)), w1 = _mm256_cvtps_pd(_mm256_extractf128_ps(w, 1));
-        s.den4 = _mm256_add_pd(s.den4, w0);
-        s.num4 = _mm256_add_pd(s.num4, _mm256_mul_pd(_mm256_loadu_pd(r + i), w0));
-        s.den4 = _mm256_add_pd(s.den4, w1);
-        s.num4 = _mm256_add_pd(s.num4, _mm256_mul_pd(_mm256_loadu_pd(r + i + 4), w1));
-    }
-    s.add(x, y, r, i, n & ~size_t{3});
-    return _mm256_movemask_ps(out8) == 0 && s.sums(num, den);
+    s.add_by_eights(x, y, r, 0, n & ~size_t{3});
+    return s.sums(num, den);
 }
 
-// The near sums of a query cell (NearSums over its near nodes) on 256-bit registers.
-template <class Node>
-__attribute__((target("avx"))) bool near_sums_avx(const double* x, const double* y, const double* r, const Node* nodes,
-                                                   const std::uint32_t* ids, std::uint32_t first, std::uint32_t last,
-                                                   Vec2 p, double& num, double& den) {
+// The near sums of a query cell (NearSums over its packed near sources) on 256-bit registers.
+__attribute__((target("avx"))) bool near_sums_avx(const double* x, const double* y, const double* r, std::uint32_t first,
+                                                   std::uint32_t last, Vec2 p, double& num, double& den) {
     WideSums s(p);
-    for (std::uint32_t j = first; j < last; ++j) s.add(x, y, r, nodes[ids[j]].begin, nodes[ids[j]].end);
+    s.add_by_eights(x, y, r, first, last);
     return s.sums(num, den);
 }
 
@@ -416,15 +420,26 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
             lo = {std::fmin(lo.x, v.x), std::fmin(lo.y, v.y)};
             hi = {std::fmax(hi.x, v.x), std::fmax(hi.y, v.y)};
         }
-        Cell root{};
-        root.centre = 0.5 * (lo + hi);
-        root.half = 0.5 * std::fmax(hi.x - lo.x, hi.y - lo.y) * (1.0 + 1e-9);
-        if (!(root.half > 0.0)) root.half = std::fmax(1e-300, std::fabs(root.centre.x) + std::fabs(root.centre.y));
+        Place at{};
+        at.centre = 0.5 * (lo + hi);
+        at.half = 0.5 * std::fmax(hi.x - lo.x, hi.y - lo.y) * (1.0 + 1e-9);
+        if (!(at.half > 0.0)) at.half = std::fmax(1e-300, std::fabs(at.centre.x) + std::fabs(at.centre.y));
+        at.leaf = false;
+        places_.push_back(at);
+        pad_near();
         near_nodes_.push_back(0);
+        Cell root{};
         root.near_begin = 0;
         root.near_end = 1;
-        root.leaf = false;
         cells_.push_back(root);
+    }
+}
+
+void InverseDistanceField::pad_near() const {
+    for (int k = 0; k < 3; ++k) {
+        near_x_.push_back(0.0);
+        near_y_.push_back(0.0);
+        near_r_.push_back(0.0);
     }
 }
 
@@ -451,11 +466,11 @@ double InverseDistanceField::summed(Vec2 p) const {
     return a_.size() <= kDirectSources ? direct(p) : treecode(p);
 }
 
-void InverseDistanceField::add_far(Cell& cell, double x, double y, double rho) const {
+void InverseDistanceField::add_far(Cell& cell, Vec2 centre, double x, double y, double rho) const {
     // The Legendre series of 1/|P - A| about the centre to l = 3, in u = C - A and
     // d = P - C: 1/R - s/R^3 + (3 s^2 - R^2 q) / (2 R^5) - (5 s^3 - 3 R^2 s q) / (2 R^7),
     // s = u.d, q = d.d, written out in the monomials dx^i dy^j.
-    const double ux = cell.centre.x - x, uy = cell.centre.y - y;
+    const double ux = centre.x - x, uy = centre.y - y;
     const double r2 = ux * ux + uy * uy, r = std::sqrt(r2);
     const double i1 = 1.0 / r, i3 = i1 / r2, i5 = i3 / r2, i7 = i5 / r2;
     double t[4][4] = {};
@@ -478,20 +493,24 @@ void InverseDistanceField::add_far(Cell& cell, double x, double y, double rho) c
 
 std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadrant) const {
     Cell c{};
+    Place at{};
     std::uint32_t from, to;
     {
         const Cell& p = cells_[parent];
-        c.half = 0.5 * p.half;
-        c.centre = {p.centre.x + ((quadrant & 1) ? c.half : -c.half), p.centre.y + ((quadrant & 2) ? c.half : -c.half)};
-        move_cubic(p.num, c.centre.x - p.centre.x, c.centre.y - p.centre.y, c.num);
-        move_cubic(p.den, c.centre.x - p.centre.x, c.centre.y - p.centre.y, c.den);
+        const Place& up = places_[parent];
+        at.half = 0.5 * up.half;
+        at.centre = {up.centre.x + ((quadrant & 1) ? at.half : -at.half),
+                     up.centre.y + ((quadrant & 2) ? at.half : -at.half)};
+        at.parent = parent;
+        move_cubic(p.num, at.centre.x - up.centre.x, at.centre.y - up.centre.y, c.num);
+        move_cubic(p.den, at.centre.x - up.centre.x, at.centre.y - up.centre.y, c.den);
         from = p.near_begin;
         to = p.near_end;
     }
     // Far: at least the half-diagonal / phi from the centre, so that |P - C| / R <= phi. The
     // parent's near nodes whole: all far, all near (kept), or opened (a leaf that straddles
     // stays near: summing a source term by term is never wrong).
-    const double far = c.half * std::numbers::sqrt2 / phi_;
+    const double far = at.half * std::numbers::sqrt2 / phi_;
     c.near_begin = static_cast<std::uint32_t>(near_nodes_.size());
     size_t count = 0;
     std::vector<std::uint32_t>& open = open_;
@@ -503,7 +522,7 @@ std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadran
             const std::uint32_t id = open.back();
             open.pop_back();
             const Node& n = nodes_[id];
-            const double d = distance(c.centre, n.c);
+            const double d = distance(at.centre, n.c);
             if (d - n.r >= far) {
                 far_ranges.emplace_back(n.begin, n.end);
             } else if (d + n.r < far || n.left == 0) {
@@ -516,66 +535,80 @@ std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadran
         }
     }
     c.near_end = static_cast<std::uint32_t>(near_nodes_.size());
+    // Sources that coincide cannot be parted: past 2^-40 of the root's width a cell is a leaf.
+    at.leaf = count <= kCellNearSources || at.half < places_[0].half * 0x1p-40;
+    if (at.leaf) {
+        // A leaf is never split: its near sources copied out in one range (one pass of eight
+        // a step instead of a short pass per node), its node numbers let go.
+        near_x_.resize(near_x_.size() - 3);
+        near_y_.resize(near_y_.size() - 3);
+        near_r_.resize(near_r_.size() - 3);
+        const auto packed = static_cast<std::uint32_t>(near_x_.size());
+        for (std::uint32_t k = c.near_begin; k < c.near_end; ++k) {
+            const Node& n = nodes_[near_nodes_[k]];
+            near_x_.insert(near_x_.end(), x_.begin() + n.begin, x_.begin() + n.end);
+            near_y_.insert(near_y_.end(), y_.begin() + n.begin, y_.begin() + n.end);
+            near_r_.insert(near_r_.end(), rho_.begin() + n.begin, rho_.begin() + n.end);
+        }
+        near_nodes_.resize(c.near_begin);
+        c.near_begin = packed;
+        c.near_end = static_cast<std::uint32_t>(near_x_.size());
+        pad_near();
+    }
     // The far sources' terms, node by node in the order met.
 #if defined(MESHD_AVX_SUM)
     if (g_wide.load(std::memory_order_relaxed)) {
         WideFarSums sums(c.num, c.den);
-        for (const auto& [b, e] : far_ranges) sums.add(x_.data(), y_.data(), rho_.data(), b, e, c.centre);
+        for (const auto& [b, e] : far_ranges) sums.add(x_.data(), y_.data(), rho_.data(), b, e, at.centre);
         sums.store(c.num, c.den);
     } else
 #endif
     {
         for (const auto& [b, e] : far_ranges)
-            for (std::uint32_t i = b; i < e; ++i) add_far(c, x_[i], y_[i], rho_[i]);
+            for (std::uint32_t i = b; i < e; ++i) add_far(c, at.centre, x_[i], y_[i], rho_[i]);
     }
-    // Sources that coincide cannot be parted: past 2^-40 of the root's width a cell is a leaf.
-    c.leaf = count <= kCellNearSources || c.half < cells_[0].half * 0x1p-40;
     const auto id = static_cast<std::uint32_t>(cells_.size());
     cells_.push_back(c);
-    cells_[parent].child[quadrant] = id;
+    places_.push_back(at);
+    places_[parent].child[quadrant] = id;
     return id;
 }
 
 double InverseDistanceField::through_cells(Vec2 p) const {
-    auto inside = [&](const Cell& c) { return std::fabs(p.x - c.centre.x) <= c.half && std::fabs(p.y - c.centre.y) <= c.half; };
+    auto inside = [&](const Place& c) { return std::fabs(p.x - c.centre.x) <= c.half && std::fabs(p.y - c.centre.y) <= c.half; };
     // Outside the sources' box (not inside a domain they bound): summed.
-    if (!inside(cells_[0])) return summed(p);
+    if (!inside(places_[0])) return summed(p);
+    // Up from the last query's leaf to the first cell that holds p (queries come in runs:
+    // neighbours share most of their way), then down to p's leaf.
     std::uint32_t k = last_leaf_;
-    if (!inside(cells_[k]) || !cells_[k].leaf) {
-        k = 0;
-        while (!cells_[k].leaf) {
-            const Cell& c = cells_[k];
-            const int q = (p.x >= c.centre.x ? 1 : 0) + (p.y >= c.centre.y ? 2 : 0);
-            k = c.child[q] != 0 ? c.child[q] : make_child(k, q);
-        }
-        last_leaf_ = k;
+    while (!inside(places_[k])) k = places_[k].parent;
+    while (!places_[k].leaf) {
+        const Place& at = places_[k];
+        const int q = (p.x >= at.centre.x ? 1 : 0) + (p.y >= at.centre.y ? 2 : 0);
+        k = at.child[q] != 0 ? at.child[q] : make_child(k, q);
     }
+    last_leaf_ = k;
     const Cell& c = cells_[k];
-    const double dx = p.x - c.centre.x, dy = p.y - c.centre.y;
+    const double dx = p.x - places_[k].centre.x, dy = p.y - places_[k].centre.y;
     double num = cubic(c.num, dx, dy), den = cubic(c.den, dx, dy);
 #if defined(__SSE2__)
     double near_num, near_den;
 #if defined(MESHD_AVX_SUM)
     if (g_wide.load(std::memory_order_relaxed)) {
-        if (near_sums_avx(x_.data(), y_.data(), rho_.data(), nodes_.data(), near_nodes_.data(), c.near_begin, c.near_end,
-                          p, near_num, near_den))
+        if (near_sums_avx(near_x_.data(), near_y_.data(), near_r_.data(), c.near_begin, c.near_end, p, near_num,
+                          near_den))
             return (num + near_num) / (den + near_den);
     } else
 #endif
     {
         NearSums near;
-        for (std::uint32_t j = c.near_begin; j < c.near_end; ++j) {
-            const Node& n = nodes_[near_nodes_[j]];
-            near.add(x_.data(), y_.data(), rho_.data(), n.begin, n.end, p);
-        }
+        near.add(near_x_.data(), near_y_.data(), near_r_.data(), c.near_begin, c.near_end, p);
         if (near.sums(near_num, near_den)) return (num + near_num) / (den + near_den);
     }
 #endif
     // In double, one term at a time (p on a source, or without SSE2).
-    for (std::uint32_t j = c.near_begin; j < c.near_end; ++j) {
-        const Node& n = nodes_[near_nodes_[j]];
-        if (const double* at = add_terms(x_.data(), y_.data(), rho_.data(), n.begin, n.end, p, num, den)) return *at;
-    }
+    if (const double* at = add_terms(near_x_.data(), near_y_.data(), near_r_.data(), c.near_begin, c.near_end, p, num, den))
+        return *at;
     return num / den;
 }
 
