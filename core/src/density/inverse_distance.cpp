@@ -296,7 +296,8 @@ struct WideFarSums {
             const __m256d ux = _mm256_sub_pd(cx, _mm256_loadu_pd(x + i)), uy = _mm256_sub_pd(cy, _mm256_loadu_pd(y + i));
             const __m256d r2 = _mm256_add_pd(_mm256_mul_pd(ux, ux), _mm256_mul_pd(uy, uy));
             const __m256d i1 = _mm256_div_pd(one, _mm256_sqrt_pd(r2));
-            const __m256d i3 = _mm256_div_pd(i1, r2), i5 = _mm256_div_pd(i3, r2), i7 = _mm256_div_pd(i5, r2);
+            const __m256d q = _mm256_div_pd(one, r2);
+            const __m256d i3 = _mm256_mul_pd(i1, q), i5 = _mm256_mul_pd(i3, q), i7 = _mm256_mul_pd(i5, q);
             const __m256d r2_3 = _mm256_mul_pd(three, r2);
             const __m256d ux3 = _mm256_mul_pd(three, ux), uy3 = _mm256_mul_pd(three, uy);
             const __m256d t10 = _mm256_mul_pd(_mm256_xor_pd(ux, sign), i3);
@@ -472,7 +473,8 @@ void InverseDistanceField::add_far(Cell& cell, Vec2 centre, double x, double y, 
     // s = u.d, q = d.d, written out in the monomials dx^i dy^j.
     const double ux = centre.x - x, uy = centre.y - y;
     const double r2 = ux * ux + uy * uy, r = std::sqrt(r2);
-    const double i1 = 1.0 / r, i3 = i1 / r2, i5 = i3 / r2, i7 = i5 / r2;
+    // 1/R^(2l+1) by one more division and products: the divider is the far terms' cost.
+    const double q = 1.0 / r2, i1 = 1.0 / r, i3 = i1 * q, i5 = i3 * q, i7 = i5 * q;
     double t[4][4] = {};
     t[0][0] = i1;
     t[1][0] = -ux * i3;
