@@ -434,16 +434,21 @@ TEST(InverseDistance, WideAndNarrowSumsAgreeToTheBit) {
     for (size_t n : {size_t{4}, size_t{5}, size_t{7}, size_t{150}, size_t{1001}, kDirectSources}) {
         const auto [a, len] = random_sources(n, rng);
         const InverseDistanceField narrow_field(a, len), wide_field(a, len);
+        // And with room for few copies of the leaves' near sources: the leaves made later sum
+        // their near sources node by node.
+        const InverseDistanceField narrow_few(a, len, 1e-3, 500), wide_few(a, len, 1e-3, 500);
         for (int k = 0; k < 2000; ++k) {
             // Anywhere around the sources, a hair from one of them, or on one.
             const Vec2 p = k % 3 == 0   ? Vec2{3.0 * u(rng) - 1.0, 3.0 * u(rng) - 1.0}
                            : k % 3 == 1 ? a[k % n] + Vec2{1e-9 * u(rng), -1e-9 * u(rng)}
                                         : a[k % n];
             detail::wide_sums(false);
-            const double narrow = narrow_field(p);
+            const double narrow = narrow_field(p), narrow_node_by_node = narrow_few(p);
             detail::wide_sums(true);
             ASSERT_EQ(std::bit_cast<std::uint64_t>(wide_field(p)), std::bit_cast<std::uint64_t>(narrow))
                 << n << " sources, query " << k;
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(wide_few(p)), std::bit_cast<std::uint64_t>(narrow_node_by_node))
+                << n << " sources, query " << k << ", few copies";
         }
     }
     // A whole mesh with eq. 6.1 inside (the paper's Fig. 9 setting).
@@ -524,7 +529,11 @@ TEST(InverseDistance, CellsMeetTheirBoundAgainstTheExactFormula) {
         double last = HUGE_VAL;
         for (double tol : {1e-2, 1e-3, 1e-4, 1e-6}) {
             const InverseDistanceField field(*c.a, *c.len, tol);
-            double worst = 0.0;
+            // The same cells with room for few copies of the leaves' near sources: most
+            // leaves sum theirs node by node, in another order, so the values agree to the
+            // rounding of the sums' order (the float weights are the same).
+            const InverseDistanceField few(*c.a, *c.len, tol, 2000);
+            double worst = 0.0, apart = 0.0;
             for (int k = 0; k < 6000; ++k) {
                 const size_t i = static_cast<size_t>(k) % c.a->size();
                 Vec2 p = k % 3 == 0 ? Vec2{c.lo.x + (c.hi.x - c.lo.x) * u(rng), c.lo.y + (c.hi.y - c.lo.y) * u(rng)}
@@ -533,9 +542,15 @@ TEST(InverseDistance, CellsMeetTheirBoundAgainstTheExactFormula) {
                     ASSERT_EQ(field((*c.a)[i]), (*c.len)[i]) << "on source " << i;
                     continue;
                 }
-                const double exact = field.exact(p);
-                worst = std::fmax(worst, std::fabs(field(p) - exact) / exact);
+                const double exact = field.exact(p), value = field(p);
+                worst = std::fmax(worst, std::fabs(value - exact) / exact);
+                apart = std::fmax(apart, std::fabs(few(p) - value) / value);
             }
+            EXPECT_LE(apart, 1e-13) << c.a->size() << " sources, tolerance " << tol;
+            // Both kinds of leaf were asked, and the copies stayed within their room.
+            EXPECT_GT(few.packed_sources(), 0u);
+            EXPECT_LE(few.packed_sources(), 2000u);
+            EXPECT_GT(field.packed_sources(), few.packed_sources());
             std::printf("[ cells ] %zu sources, tolerance %g: worst relative error %.3g\n", c.a->size(), tol, worst);
             EXPECT_LE(worst, tol + 4e-7) << c.a->size() << " sources, tolerance " << tol;  // + the near sums' floats
             EXPECT_GT(worst, 1e-9) << "the polynomials are really used";

@@ -229,11 +229,16 @@ __attribute__((target("avx"))) bool sum_by_fours_avx(const double* x, const doub
     return s.sums(num, den);
 }
 
-// The near sums of a query cell (NearSums over its packed near sources) on 256-bit registers.
-__attribute__((target("avx"))) bool near_sums_avx(const double* x, const double* y, const double* r, std::uint32_t first,
-                                                   std::uint32_t last, Vec2 p, double& num, double& den) {
+// The near sums of a query cell on 256-bit registers: the ranges range(0 .. count - 1) of the
+// sources, each as NearSums adds it.
+template <class Range>
+__attribute__((target("avx"))) bool near_sums_avx(const double* x, const double* y, const double* r, std::uint32_t count,
+                                                   Range range, Vec2 p, double& num, double& den) {
     WideSums s(p);
-    s.add_by_eights(x, y, r, first, last);
+    for (std::uint32_t j = 0; j < count; ++j) {
+        const auto [b, e] = range(j);
+        s.add_by_eights(x, y, r, b, e);
+    }
     return s.sums(num, den);
 }
 
@@ -344,6 +349,35 @@ bool sum_by_fours(const double* x, const double* y, const double* r, size_t n, V
 }
 #endif
 
+// num and den with the near sources' terms added, the ranges range(0 .. count - 1) of x, y, r,
+// and their ratio; the value of a source when p is one (the formula's limit there).
+template <class Range>
+double near_value(const double* x, const double* y, const double* r, std::uint32_t count, Range range, Vec2 p,
+                  double num, double den) {
+#if defined(__SSE2__)
+    double near_num, near_den;
+#if defined(MESHD_AVX_SUM)
+    if (g_wide.load(std::memory_order_relaxed)) {
+        if (near_sums_avx(x, y, r, count, range, p, near_num, near_den)) return (num + near_num) / (den + near_den);
+    } else
+#endif
+    {
+        NearSums near;
+        for (std::uint32_t j = 0; j < count; ++j) {
+            const auto [b, e] = range(j);
+            near.add(x, y, r, b, e, p);
+        }
+        if (near.sums(near_num, near_den)) return (num + near_num) / (den + near_den);
+    }
+#endif
+    // In double, one term at a time (p on a source, or without SSE2).
+    for (std::uint32_t j = 0; j < count; ++j) {
+        const auto [b, e] = range(j);
+        if (const double* at = add_terms(x, y, r, b, e, p, num, den)) return *at;
+    }
+    return num / den;
+}
+
 }  // namespace
 
 bool detail::wide_sums(bool allow) {
@@ -357,7 +391,7 @@ bool detail::wide_sums(bool allow) {
 }
 
 InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector<double> values,
-                                           double tolerance)
+                                           double tolerance, std::optional<size_t> packed_copies)
     : a_(std::move(starts)), rho_(std::move(values)) {
     MESHD_INTERNAL_CHECK(a_.size() == rho_.size() && !a_.empty(), "eq. 6.1 needs sources");
     MESHD_INTERNAL_CHECK(tolerance > 0.0 && tolerance < 1.0, "tolerance out of range");
@@ -414,6 +448,7 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
         }
         nodes_.push_back(n);
     }
+    packing_budget_ = packed_copies ? *packed_copies : std::max(kPackedCopies, kPackedCopiesPerSource * a_.size());
     if (a_.size() > kCellSources) {
         // The root: the sources' box, every source near it (the tree's root node).
         Vec2 lo = a_.front(), hi = a_.front();
@@ -539,12 +574,20 @@ std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadran
     c.near_end = static_cast<std::uint32_t>(near_nodes_.size());
     // Sources that coincide cannot be parted: past 2^-40 of the root's width a cell is a leaf.
     at.leaf = count <= kCellNearSources || at.half < places_[0].half * 0x1p-40;
-    if (at.leaf) {
+    at.packed = at.leaf && near_x_.size() + count <= packing_budget_;
+    if (at.packed) {
         // A leaf is never split: its near sources copied out in one range (one pass of eight
         // a step instead of a short pass per node), its node numbers let go.
         near_x_.resize(near_x_.size() - 3);
         near_y_.resize(near_y_.size() - 3);
         near_r_.resize(near_r_.size() - 3);
+        // Grown by doubling, but never past the budget (and the last leaf's room).
+        if (const size_t need = near_x_.size() + count + 3; need > near_x_.capacity()) {
+            const size_t room = std::max(need, std::min(2 * near_x_.capacity(), packing_budget_ + 3));
+            near_x_.reserve(room);
+            near_y_.reserve(room);
+            near_r_.reserve(room);
+        }
         const auto packed = static_cast<std::uint32_t>(near_x_.size());
         for (std::uint32_t k = c.near_begin; k < c.near_end; ++k) {
             const Node& n = nodes_[near_nodes_[k]];
@@ -593,25 +636,17 @@ double InverseDistanceField::through_cells(Vec2 p) const {
     const Cell& c = cells_[k];
     const double dx = p.x - places_[k].centre.x, dy = p.y - places_[k].centre.y;
     double num = cubic(c.num, dx, dy), den = cubic(c.den, dx, dy);
-#if defined(__SSE2__)
-    double near_num, near_den;
-#if defined(MESHD_AVX_SUM)
-    if (g_wide.load(std::memory_order_relaxed)) {
-        if (near_sums_avx(near_x_.data(), near_y_.data(), near_r_.data(), c.near_begin, c.near_end, p, near_num,
-                          near_den))
-            return (num + near_num) / (den + near_den);
-    } else
-#endif
-    {
-        NearSums near;
-        near.add(near_x_.data(), near_y_.data(), near_r_.data(), c.near_begin, c.near_end, p);
-        if (near.sums(near_num, near_den)) return (num + near_num) / (den + near_den);
+    if (places_[k].packed) {
+        const std::pair<std::uint32_t, std::uint32_t> all{c.near_begin, c.near_end};
+        return near_value(near_x_.data(), near_y_.data(), near_r_.data(), 1, [&](std::uint32_t) { return all; }, p,
+                          num, den);
     }
-#endif
-    // In double, one term at a time (p on a source, or without SSE2).
-    if (const double* at = add_terms(near_x_.data(), near_y_.data(), near_r_.data(), c.near_begin, c.near_end, p, num, den))
-        return *at;
-    return num / den;
+    return near_value(x_.data(), y_.data(), rho_.data(), c.near_end - c.near_begin,
+                      [&](std::uint32_t j) {
+                          const Node& n = nodes_[near_nodes_[c.near_begin + j]];
+                          return std::pair<std::uint32_t, std::uint32_t>{n.begin, n.end};
+                      },
+                      p, num, den);
 }
 
 double InverseDistanceField::treecode(Vec2 p) const {

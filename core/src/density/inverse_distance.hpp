@@ -35,6 +35,7 @@
 /// from their polynomials, so that the way reads a sixth of the bytes.
 
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -54,6 +55,11 @@ inline constexpr size_t kDirectSources = 8192;
 inline constexpr size_t kCellSources = 64;
 /// A cell with more near sources than this is split.
 inline constexpr size_t kCellNearSources = 48;
+/// The query cells' leaves keep copies of their near sources up to the larger of these: so
+/// many copies, or so many a source (then their node numbers, as inner cells do). Fig. 9
+/// makes 60,037 copies; 2^17 copies are 3.1 MB.
+inline constexpr size_t kPackedCopies = size_t{1} << 17;
+inline constexpr size_t kPackedCopiesPerSource = 8;
 
 namespace detail {
 /// Whether the term-by-term sum runs on 256-bit registers (where the processor has AVX):
@@ -65,8 +71,11 @@ bool wide_sums(bool allow = true);
 class InverseDistanceField {
 public:
     /// starts[i] = A_i, values[i] = rho_i > 0. tolerance: bound on the relative error.
-    InverseDistanceField(std::vector<Vec2> starts, std::vector<double> values,
-                         double tolerance = 1e-3);
+    /// packed_copies: the leaves' copies of their near sources at most (kPackedCopies and
+    /// kPackedCopiesPerSource by default; the tests give a few, so that both kinds of leaf
+    /// are asked).
+    InverseDistanceField(std::vector<Vec2> starts, std::vector<double> values, double tolerance = 1e-3,
+                         std::optional<size_t> packed_copies = std::nullopt);
 
     /// rho at p: summed term by term up to kCellSources sources (the weights 1/d_i in single
     /// precision, the sums in double: within 4e-7 of the exact value), else through the cells
@@ -80,6 +89,8 @@ public:
     double treecode(Vec2 p) const;
     /// The formula summed term by term, O(N), one term at a time: the reference for tests.
     double exact(Vec2 p) const;
+    /// The copies of near sources the leaves made so far hold (at most packed_copies).
+    size_t packed_sources() const { return near_x_.empty() ? 0 : near_x_.size() - 3; }
 
 private:
     struct Node {
@@ -97,7 +108,7 @@ private:
     // (P - centre), coefficient [i][j] of dx^i dy^j (i + j <= 3), and its near sources.
     struct Cell {
         double num[4][4], den[4][4];
-        // An inner cell: into near_nodes_, k-d tree nodes, each a range of sources. A leaf: into
+        // Into near_nodes_, k-d tree nodes, each a range of sources; a packed leaf's into
         // near_x_, near_y_, near_r_, its near sources copied out.
         std::uint32_t near_begin, near_end;
     };
@@ -109,6 +120,7 @@ private:
         std::uint32_t child[4];     // 0: not made yet
         std::uint32_t parent;       // the root's: 0
         bool leaf;
+        bool packed;  // a leaf whose near sources are copied out (near_x_, ...)
     };
     double through_cells(Vec2 p) const;
     std::uint32_t make_child(std::uint32_t parent, int quadrant) const;
@@ -128,6 +140,10 @@ private:
     // The leaves' near sources, each leaf's in one range; three zeros past the last (read,
     // masked, by the last step of four).
     mutable std::vector<double> near_x_, near_y_, near_r_;
+    // Copies at most (24 bytes each): leaves made past it keep their node numbers. Made all
+    // over the plane, the leaves would hold some 8 copies a source in all (70.8 MB against
+    // 8.6 MB for the node numbers at 64,000 sources and 2 million queries).
+    size_t packing_budget_;
     void pad_near() const;  // those three zeros
     mutable std::vector<std::uint32_t> open_;  // make_child's stack
     mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> far_ranges_;  // and its far nodes' sources
