@@ -126,14 +126,7 @@ BENCHMARK_TEMPLATE(BM_InverseDistance, 2)->RangeMultiplier(10)->Range(1, 1000)->
 template <int kAgreed>
 void BM_InterpolatedField(benchmark::State& state) {
     // examples/fig9.json: NACA 0012 in a far field of radius 5, eq. 6.1 inside.
-    DomainSpec spec;
-    spec.points = {{"F", {5.5, 0.0}}};
-    NacaSpec naca;
-    naca.code = "0012";
-    spec.curves.push_back({"wing", naca, std::nullopt, std::nullopt, std::string("wall")});
-    spec.curves.push_back({"farfield", ArcShape{{0.5, 0.0}, ArcDirection::Ccw}, "F", "F", std::string("farfield")});
-    spec.loops = {{{"farfield", false}}, {{"wing", false}}};
-    const Domain dom = build_domain(spec);
+    const Domain dom = build_domain(meshd::bench::naca_case_domain(5.0));
     DensitySpec density;
     density.curves = {{"farfield", std::string("0.4*sqrt(x^2+y^2)+0.2")},
                       {"wing", std::string("0.05*sqrt((x+0.01)^2+y^2)")}};

@@ -9,10 +9,11 @@
 
 namespace meshd::bench {
 
-inline core::DomainSpec naca_case_domain() {
+// `radius`: the far field's (examples/fig9.json has the same airfoil in one of radius 5).
+inline core::DomainSpec naca_case_domain(double radius = 20.0) {
     using namespace meshd::core;
     DomainSpec s;
-    s.points = {{"F", {20.5, 0.0}}};
+    s.points = {{"F", {0.5 + radius, 0.0}}};
     NacaSpec naca;
     naca.code = "0012";
     s.curves.push_back({"wing", naca, std::nullopt, std::nullopt, std::string("wall")});
