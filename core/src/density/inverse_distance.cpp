@@ -574,7 +574,7 @@ std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadran
     c.near_end = static_cast<std::uint32_t>(near_nodes_.size());
     // Sources that coincide cannot be parted: past 2^-40 of the root's width a cell is a leaf.
     at.leaf = count <= kCellNearSources || at.half < places_[0].half * 0x1p-40;
-    at.packed = at.leaf && near_x_.size() + count <= packing_budget_;
+    at.packed = at.leaf && packed_sources() + count <= packing_budget_;
     if (at.packed) {
         // A leaf is never split: its near sources copied out in one range (one pass of eight
         // a step instead of a short pass per node), its node numbers let go.
