@@ -30,7 +30,9 @@
 /// parent's near list, not every source, and a cell keeps node numbers, not sources. A leaf,
 /// never split, keeps copies of its near sources instead, in one range: a query sums them in
 /// one pass of eight a step (about 21 sources in 3.4 nodes on Fig. 9: 7 steps of four, a
-/// quarter of their lanes masked, became 3). A query finds its leaf from the last query's,
+/// quarter of their lanes masked, became 3), within a bound on all leaves' copies
+/// (kPackedCopies, kPackedCopiesPerSource; leaves made past it keep node numbers). A query
+/// finds its leaf from the last query's,
 /// up to the first cell that holds it and down again; the cells' places and links sit apart
 /// from their polynomials, so that the way reads a sixth of the bytes.
 
