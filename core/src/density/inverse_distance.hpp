@@ -32,9 +32,9 @@
 /// one pass of eight a step (about 21 sources in 3.4 nodes on Fig. 9: 7 steps of four, a
 /// quarter of their lanes masked, became 3), within a bound on all leaves' copies
 /// (kPackedCopies, kPackedCopiesPerSource; leaves made past it keep node numbers). A query
-/// finds its leaf from the last query's,
-/// up to the first cell that holds it and down again; the cells' places and links sit apart
-/// from their polynomials, so that the way reads a sixth of the bytes.
+/// finds its leaf from the last query's, up to the first cell that holds it and down again;
+/// the cells' places and links sit apart from their polynomials, so that the way reads a
+/// sixth of the bytes.
 
 #include <cstdint>
 #include <optional>
