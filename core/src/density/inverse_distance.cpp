@@ -42,15 +42,22 @@ double largest_within(F f, double bound) {
     return lo;
 }
 
-// sum a[i][j] dx^i dy^j over i + j <= 3.
-double cubic(const double (&a)[4][4], double dx, double dy) {
+// A cubic's ten coefficients in a row, in the order of kTerms: (i, j) is the coefficient of
+// dx^i dy^j. (As a 4 x 4 array, six of the sixteen were never used: a cell took 264 bytes,
+// now 160, three cache lines.)
+constexpr int kTerms[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+
+// sum a(i, j) dx^i dy^j over i + j <= 3.
+double cubic(const double (&a)[10], double dx, double dy) {
     const double x2 = dx * dx, y2 = dy * dy;
-    return a[0][0] + a[1][0] * dx + a[0][1] * dy + a[2][0] * x2 + a[1][1] * dx * dy + a[0][2] * y2 +
-           a[3][0] * x2 * dx + a[2][1] * x2 * dy + a[1][2] * dx * y2 + a[0][3] * y2 * dy;
+    return a[0] + a[1] * dx + a[2] * dy + a[3] * x2 + a[4] * dx * dy + a[5] * y2 + a[6] * x2 * dx + a[7] * x2 * dy +
+           a[8] * dx * y2 + a[9] * y2 * dy;
 }
 
 // The same polynomial in (P - (C + d)) instead of (P - C).
-void move_cubic(const double (&a)[4][4], double dx, double dy, double (&out)[4][4]) {
+void move_cubic(const double (&flat)[10], double dx, double dy, double (&moved)[10]) {
+    double a[4][4] = {}, out[4][4];
+    for (int t = 0; t < 10; ++t) a[kTerms[t][0]][kTerms[t][1]] = flat[t];
     static constexpr double kBinomial[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
     const double px[4] = {1, dx, dx * dx, dx * dx * dx}, py[4] = {1, dy, dy * dy, dy * dy * dy};
     // Unrolled whole, the products by the binomials' and the powers' ones fall away (exactly:
@@ -71,6 +78,7 @@ void move_cubic(const double (&a)[4][4], double dx, double dy, double (&out)[4][
                     if (i + j < 4) sum += a[i][j] * kBinomial[i][k] * kBinomial[j][l] * px[i - k] * py[j - l];
             out[k][l] = sum;
         }
+    for (int t = 0; t < 10; ++t) moved[t] = out[kTerms[t][0]][kTerms[t][1]];
 }
 
 // Adds the terms of sources [b, e) at p in double, one at a time; the source's value when p is
@@ -246,32 +254,21 @@ __attribute__((target("avx"))) bool near_sums_avx(const double* x, const double*
 // registers: the terms of four sources at once (lanes = sources), each by add_far's operations
 // in add_far's order, then turned (a 4 x 4 transpose) so that each coefficient takes the
 // sources one after another as add_far adds them: the same polynomial to the bit, in about a
-// third of the instructions. The coefficients sit in three groups: (0,0) (1,0) (0,1) (2,0),
-// then (1,1) (0,2) (3,0) (2,1), then (1,2) (0,3).
+// third of the instructions. The coefficients sit in three groups, as a cell keeps them (kTerms):
+// (0,0) (1,0) (0,1) (2,0), then (1,1) (0,2) (3,0) (2,1), then (1,2) (0,3).
 struct WideFarSums {
     __m256d den0, den1, num0, num1;
     __m128d den2, num2;
-    __attribute__((target("avx"))) WideFarSums(const double (&num)[4][4], const double (&den)[4][4])
-        : den0(_mm256_setr_pd(den[0][0], den[1][0], den[0][1], den[2][0])),
-          den1(_mm256_setr_pd(den[1][1], den[0][2], den[3][0], den[2][1])),
-          num0(_mm256_setr_pd(num[0][0], num[1][0], num[0][1], num[2][0])),
-          num1(_mm256_setr_pd(num[1][1], num[0][2], num[3][0], num[2][1])),
-          den2(_mm_setr_pd(den[1][2], den[0][3])),
-          num2(_mm_setr_pd(num[1][2], num[0][3])) {}
-    __attribute__((target("avx"))) void store(double (&num)[4][4], double (&den)[4][4]) const {
-        alignas(32) double lanes[4];
-        auto put = [&](__m256d v, double& a, double& b, double& c, double& d) {
-            _mm256_store_pd(lanes, v);
-            a = lanes[0], b = lanes[1], c = lanes[2], d = lanes[3];
-        };
-        put(den0, den[0][0], den[1][0], den[0][1], den[2][0]);
-        put(den1, den[1][1], den[0][2], den[3][0], den[2][1]);
-        put(num0, num[0][0], num[1][0], num[0][1], num[2][0]);
-        put(num1, num[1][1], num[0][2], num[3][0], num[2][1]);
-        _mm_store_pd(lanes, den2);
-        den[1][2] = lanes[0], den[0][3] = lanes[1];
-        _mm_store_pd(lanes, num2);
-        num[1][2] = lanes[0], num[0][3] = lanes[1];
+    __attribute__((target("avx"))) WideFarSums(const double (&num)[10], const double (&den)[10])
+        : den0(_mm256_loadu_pd(den)), den1(_mm256_loadu_pd(den + 4)), num0(_mm256_loadu_pd(num)),
+          num1(_mm256_loadu_pd(num + 4)), den2(_mm_loadu_pd(den + 8)), num2(_mm_loadu_pd(num + 8)) {}
+    __attribute__((target("avx"))) void store(double (&num)[10], double (&den)[10]) const {
+        _mm256_storeu_pd(den, den0);
+        _mm256_storeu_pd(den + 4, den1);
+        _mm256_storeu_pd(num, num0);
+        _mm256_storeu_pd(num + 4, num1);
+        _mm_storeu_pd(den + 8, den2);
+        _mm_storeu_pd(num + 8, num2);
     }
     // acc += the first m of the sources' vectors (a[k], b[k], c[k], d[k]), in order.
     __attribute__((target("avx"))) static void add_turned(__m256d& acc, __m256d a, __m256d b, __m256d c, __m256d d,
@@ -461,13 +458,12 @@ InverseDistanceField::InverseDistanceField(std::vector<Vec2> starts, std::vector
         at.half = 0.5 * std::fmax(hi.x - lo.x, hi.y - lo.y) * (1.0 + 1e-9);
         if (!(at.half > 0.0)) at.half = std::fmax(1e-300, std::fabs(at.centre.x) + std::fabs(at.centre.y));
         at.leaf = false;
+        at.near_begin = 0;
+        at.near_end = 1;
         places_.push_back(at);
         pad_near();
         near_nodes_.push_back(0);
-        Cell root{};
-        root.near_begin = 0;
-        root.near_end = 1;
-        cells_.push_back(root);
+        cells_.push_back(Cell{});
     }
 }
 
@@ -521,14 +517,15 @@ void InverseDistanceField::add_far(Cell& cell, Vec2 centre, double x, double y, 
     t[2][1] = -0.5 * (15.0 * ux * ux * uy - 3.0 * r2 * uy) * i7;
     t[1][2] = -0.5 * (15.0 * ux * uy * uy - 3.0 * r2 * ux) * i7;
     t[0][3] = -0.5 * (5.0 * uy * uy * uy - 3.0 * r2 * uy) * i7;
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; i + j < 4; ++j) {
-            cell.den[i][j] += t[i][j];
-            cell.num[i][j] += rho * t[i][j];
-        }
+    for (int k = 0; k < 10; ++k) {
+        const double term = t[kTerms[k][0]][kTerms[k][1]];
+        cell.den[k] += term;
+        cell.num[k] += rho * term;
+    }
 }
 
 std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadrant) const {
+    static_assert(sizeof(Cell) == 160 && sizeof(Place) <= 64, "a cell's sums in three lines, its place in one");
     Cell c{};
     Place at{};
     std::uint32_t from, to;
@@ -541,14 +538,14 @@ std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadran
         at.parent = parent;
         move_cubic(p.num, at.centre.x - up.centre.x, at.centre.y - up.centre.y, c.num);
         move_cubic(p.den, at.centre.x - up.centre.x, at.centre.y - up.centre.y, c.den);
-        from = p.near_begin;
-        to = p.near_end;
+        from = up.near_begin;
+        to = up.near_end;
     }
     // Far: at least the half-diagonal / phi from the centre, so that |P - C| / R <= phi. The
     // parent's near nodes whole: all far, all near (kept), or opened (a leaf that straddles
     // stays near: summing a source term by term is never wrong).
     const double far = at.half * std::numbers::sqrt2 / phi_;
-    c.near_begin = static_cast<std::uint32_t>(near_nodes_.size());
+    at.near_begin = static_cast<std::uint32_t>(near_nodes_.size());
     size_t count = 0;
     std::vector<std::uint32_t>& open = open_;
     std::vector<std::pair<std::uint32_t, std::uint32_t>>& far_ranges = far_ranges_;
@@ -571,7 +568,7 @@ std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadran
             }
         }
     }
-    c.near_end = static_cast<std::uint32_t>(near_nodes_.size());
+    at.near_end = static_cast<std::uint32_t>(near_nodes_.size());
     // Sources that coincide cannot be parted: past 2^-40 of the root's width a cell is a leaf.
     at.leaf = count <= kCellNearSources || at.half < places_[0].half * 0x1p-40;
     at.packed = at.leaf && packed_sources() + count <= packing_budget_;
@@ -589,15 +586,15 @@ std::uint32_t InverseDistanceField::make_child(std::uint32_t parent, int quadran
             near_r_.reserve(room);
         }
         const auto packed = static_cast<std::uint32_t>(near_x_.size());
-        for (std::uint32_t k = c.near_begin; k < c.near_end; ++k) {
+        for (std::uint32_t k = at.near_begin; k < at.near_end; ++k) {
             const Node& n = nodes_[near_nodes_[k]];
             near_x_.insert(near_x_.end(), x_.begin() + n.begin, x_.begin() + n.end);
             near_y_.insert(near_y_.end(), y_.begin() + n.begin, y_.begin() + n.end);
             near_r_.insert(near_r_.end(), rho_.begin() + n.begin, rho_.begin() + n.end);
         }
-        near_nodes_.resize(c.near_begin);
-        c.near_begin = packed;
-        c.near_end = static_cast<std::uint32_t>(near_x_.size());
+        near_nodes_.resize(at.near_begin);
+        at.near_begin = packed;
+        at.near_end = static_cast<std::uint32_t>(near_x_.size());
         pad_near();
     }
     // The far sources' terms, node by node in the order met.
@@ -633,17 +630,18 @@ double InverseDistanceField::through_cells(Vec2 p) const {
         k = at.child[q] != 0 ? at.child[q] : make_child(k, q);
     }
     last_leaf_ = k;
+    const Place& at = places_[k];
     const Cell& c = cells_[k];
-    const double dx = p.x - places_[k].centre.x, dy = p.y - places_[k].centre.y;
-    double num = cubic(c.num, dx, dy), den = cubic(c.den, dx, dy);
-    if (places_[k].packed) {
-        const std::pair<std::uint32_t, std::uint32_t> all{c.near_begin, c.near_end};
+    const double dx = p.x - at.centre.x, dy = p.y - at.centre.y;
+    const double num = cubic(c.num, dx, dy), den = cubic(c.den, dx, dy);
+    if (at.packed) {
+        const std::pair<std::uint32_t, std::uint32_t> all{at.near_begin, at.near_end};
         return near_value(near_x_.data(), near_y_.data(), near_r_.data(), 1, [&](std::uint32_t) { return all; }, p,
                           num, den);
     }
-    return near_value(x_.data(), y_.data(), rho_.data(), c.near_end - c.near_begin,
+    return near_value(x_.data(), y_.data(), rho_.data(), at.near_end - at.near_begin,
                       [&](std::uint32_t j) {
-                          const Node& n = nodes_[near_nodes_[c.near_begin + j]];
+                          const Node& n = nodes_[near_nodes_[at.near_begin + j]];
                           return std::pair<std::uint32_t, std::uint32_t>{n.begin, n.end};
                       },
                       p, num, den);
