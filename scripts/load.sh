@@ -7,6 +7,15 @@ cd "$(dirname "$0")/.."
 secs="${1:-30}"
 command -v wrk >/dev/null || { sudo=""; [ "$(id -u)" -ne 0 ] && sudo=sudo; $sudo apt-get install -y -qq wrk; }
 scripts/build.sh release >/dev/null
+# The pipeline alone on one core, before and after the run (BM_SmallRequest: this request's
+# mesh without HTTP): these VMs change speed by a quarter or more from one quarter of an hour
+# to the next, and a load figure means little without the machine's speed in the same minutes.
+yardstick() {
+  [ -x build/bench/meshd_bench ] || { echo "n/a"; return; }
+  build/bench/meshd_bench --benchmark_filter='^BM_SmallRequest$' --benchmark_min_time=1 2>/dev/null |
+    awk '/^BM_SmallRequest/ { printf "%s %s", $2, $3 }'
+}
+before=$(yardstick)
 port=18181
 # Room for every connection in the queue: the load measures throughput, not refusals.
 build/server/meshd --port "$port" --workers "$(nproc)" --queue 64 --log-level warn &
@@ -37,3 +46,4 @@ awk -v c0="$cpu0" -v c1="$cpu1" -v n0="$ok0" -v n1="$ok1" -v cores="$(nproc)" 'B
 kill -TERM $pid
 wait $pid
 echo "server exited $?"
+echo "the same mesh without HTTP on one core (BM_SmallRequest): $before before the run, $(yardstick) after"
