@@ -145,12 +145,12 @@ double SizeField::interior(Vec2 p) const {
 void SizeField::interior(const Vec2* p, size_t n, double* out) const {
     if (interpolate_) {
         // eq. 6.1 over the whole batch, then the caps (each in the order of the points, so the
-        // same values to the bit). Point by point, the caps' test on each value as soon as it
-        // came held the processor back from the next query's loads while this one's cache
-        // misses were pending (warm, in a benchmark, the two orders cost the same). Fig. 9 per
-        // triangle against the NACA example went from 1.39-1.44 to 1.32-1.38 times (six
-        // alternated runs each; its figures and target sizes at the end ask eq. 6.1 at 70,000
-        // points).
+        // same values to the bit). Fig. 9's figures and target sizes at the end (eq. 6.1 at
+        // 70,000 points) went from about 6.9 to 4.9 ms, and its time per triangle against the
+        // NACA example's from 1.39-1.44 to 1.32-1.38 times (six alternated runs each). Why is
+        // not settled: a benchmark of the same queries, warm or from emptied caches, asks
+        // them at the same cost either way, and the profiles differ in what the compiler
+        // inlined (docs/benchmarks.md, "eq. 6.1 at the end of a mesh").
         MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
         for (size_t i = 0; i < n; ++i) out[i] = (*idw_)(p[i]);
         for (size_t i = 0; i < n; ++i) out[i] = interior_from(p[i], std::fmin(std::fmax(out[i], min_), max_));
