@@ -26,7 +26,7 @@ DensityProfile sample_density(double length, const std::function<double(double)>
         const double sa = out.s.back(), ha = out.h.back();
         const auto [sb, hb] = stack.back();
         const double len = sb - sa;
-        const double hmin = std::fmin(ha, hb);
+        const double hmin = fmin_inline(ha, hb);
         bool split = len > 0.5 * hmin;
         double sm = 0.5 * (sa + sb), hm = 0.0;
         if (len > floor_len && len > floor * hmin && len > 1e-15 * length) {

@@ -121,7 +121,7 @@ double GradationField::capped(Vec2 x, double upper) const {
     const double floor = search(x, search_factor_ * upper);
     last_at_ = x;
     last_floor_ = floor;
-    return std::fmin(upper, floor);
+    return fmin_inline(upper, floor);
 }
 
 // The least of the cones at x of the sources [b, e) and of up to three after them: four a
@@ -145,7 +145,7 @@ double GradationField::least_cone(std::uint32_t b, std::uint32_t e, Vec2 x) cons
 #else
 double GradationField::least_cone(std::uint32_t b, std::uint32_t e, Vec2 x) const {
     double least = HUGE_VAL;
-    for (std::uint32_t i = b; i < e; ++i) least = std::fmin(least, h_[i] + slope_ * distance(x, {x_[i], y_[i]}));
+    for (std::uint32_t i = b; i < e; ++i) least = fmin_inline(least, h_[i] + slope_ * distance(x, {x_[i], y_[i]}));
     return least;
 }
 #endif
@@ -155,7 +155,7 @@ double GradationField::search(Vec2 x, double upper) const {
     detail::depth_first(nodes_, [&](const Node& n) {
         if (n.hmin + slope_ * std::sqrt(n.box.distance2(x)) >= best) return detail::Descend::No;
         if (n.left == 0) {
-            best = std::fmin(best, least_cone(n.begin, n.end, x));
+            best = fmin_inline(best, least_cone(n.begin, n.end, x));
             return detail::Descend::No;
         }
         // The nearer child first: its cones lower `best` sooner. (Squared distances: the

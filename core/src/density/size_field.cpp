@@ -130,16 +130,16 @@ void SizeField::refuse(const Source& s, Vec2 p, double v) const {
 
 double SizeField::on_curve(CurveId c, Vec2 p) const {
     double h = eval(sources_[*curve_source_[c]], p);
-    if (graded_) h = std::fmax(graded_->capped(p, h), min_);
-    if (curve_cap_) h = std::fmax(curve_cap_->capped(p, h), min_);
-    if (cap_) h = std::fmax(cap_->capped(p, h), min_);
+    if (graded_) h = fmax_inline(graded_->capped(p, h), min_);
+    if (curve_cap_) h = fmax_inline(curve_cap_->capped(p, h), min_);
+    if (cap_) h = fmax_inline(cap_->capped(p, h), min_);
     return h;
 }
 
 double SizeField::interior(Vec2 p) const {
     if (!interpolate_) return interior_from(p, eval(sources_[*interior_source_], p));
     MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
-    return interior_from(p, std::fmin(std::fmax((*idw_)(p), min_), max_));
+    return interior_from(p, fmin_inline(fmax_inline((*idw_)(p), min_), max_));
 }
 
 void SizeField::interior(const Vec2* p, size_t n, double* out) const {
@@ -153,7 +153,7 @@ void SizeField::interior(const Vec2* p, size_t n, double* out) const {
         // inlined (docs/benchmarks.md, "eq. 6.1 at the end of a mesh").
         MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
         for (size_t i = 0; i < n; ++i) out[i] = (*idw_)(p[i]);
-        for (size_t i = 0; i < n; ++i) out[i] = interior_from(p[i], std::fmin(std::fmax(out[i], min_), max_));
+        for (size_t i = 0; i < n; ++i) out[i] = interior_from(p[i], fmin_inline(fmax_inline(out[i], min_), max_));
         return;
     }
     if (!sources_[*interior_source_].expr) {
@@ -181,15 +181,15 @@ void SizeField::interior(const Vec2* p, size_t n, double* out) const {
 double SizeField::interior_scattered(Vec2 p) const {
     if (!interpolate_) return interior_from(p, eval(sources_[*interior_source_], p));
     MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
-    return interior_from(p, std::fmin(std::fmax(idw_->summed(p), min_), max_));
+    return interior_from(p, fmin_inline(fmax_inline(idw_->summed(p), min_), max_));
 }
 
 // The field inside from its raw value at p (the expression's, or eq. 6.1's): the gradation
 // and the caps.
 double SizeField::interior_from(Vec2 p, double h) const {
-    if (graded_) h = std::fmax(graded_->capped(p, h), min_);
-    if (interior_cap_) h = std::fmax(interior_cap_->capped(p, h), min_);
-    if (cap_) h = std::fmax(cap_->capped(p, h), min_);
+    if (graded_) h = fmax_inline(graded_->capped(p, h), min_);
+    if (interior_cap_) h = fmax_inline(interior_cap_->capped(p, h), min_);
+    if (cap_) h = fmax_inline(cap_->capped(p, h), min_);
     return h;
 }
 
