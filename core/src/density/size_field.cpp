@@ -139,7 +139,7 @@ double SizeField::on_curve(CurveId c, Vec2 p) const {
 double SizeField::interior(Vec2 p) const {
     if (!interpolate_) return interior_from(p, eval(sources_[*interior_source_], p));
     MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
-    return interior_from(p, fmin_inline(fmax_inline((*idw_)(p), min_), max_));
+    return interior_from(p, clamped((*idw_)(p)));
 }
 
 void SizeField::interior(const Vec2* p, size_t n, double* out) const {
@@ -153,7 +153,7 @@ void SizeField::interior(const Vec2* p, size_t n, double* out) const {
         // inlined (docs/benchmarks.md, "eq. 6.1 at the end of a mesh").
         MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
         for (size_t i = 0; i < n; ++i) out[i] = (*idw_)(p[i]);
-        for (size_t i = 0; i < n; ++i) out[i] = interior_from(p[i], fmin_inline(fmax_inline(out[i], min_), max_));
+        for (size_t i = 0; i < n; ++i) out[i] = interior_from(p[i], clamped(out[i]));
         return;
     }
     if (!sources_[*interior_source_].expr) {
@@ -181,7 +181,7 @@ void SizeField::interior(const Vec2* p, size_t n, double* out) const {
 double SizeField::interior_scattered(Vec2 p) const {
     if (!interpolate_) return interior_from(p, eval(sources_[*interior_source_], p));
     MESHD_INTERNAL_CHECK(idw_ != nullptr, "eq. 6.1 used before the boundary was set");
-    return interior_from(p, fmin_inline(fmax_inline(idw_->summed(p), min_), max_));
+    return interior_from(p, clamped(idw_->summed(p)));
 }
 
 // The field inside from its raw value at p (the expression's, or eq. 6.1's): the gradation

@@ -90,6 +90,9 @@ private:
         return std::clamp(v, min_, max_);  // v is a number here, and min_ <= max_
     }
     [[noreturn]] void refuse(const Source& s, Vec2 p, double v) const;
+    // eq. 6.1's value v clamped to [min, max] (never refused: a weighted mean of the boundary's
+    // segment lengths).
+    double clamped(double v) const { return fmin_inline(fmax_inline(v, min_), max_); }
     double interior_from(Vec2 p, double raw) const;
 
     std::vector<std::optional<size_t>> curve_source_;  // per curve: index into sources_
