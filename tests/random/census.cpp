@@ -10,8 +10,9 @@
 //       each seed whose smallest free angle is below 30 degrees or whose mesh fails
 //       check_mesh, then the counts and the mean of each domain's smallest angle (and how
 //       many of the interior's candidates its crossing test refused). With
-//       --each, also a line per mesh (its points and smallest free angle): two builds' lists
-//       side by side (diff) name the meshes a change touched.
+//       --each, also a line per mesh (its points, smallest free angle and a digest of its
+//       points' bits and triangles): two builds' lists side by side (diff) name the meshes
+//       a change touched.
 //   meshd-random-census --picture SEED [--no-layers] [--zoom Z] [--at X Y] [--half H] [--out F]
 //       writes an SVG of the mesh around the smallest angle (or around X Y): a window of Z
 //       (default 6) times the longest edge there, or of half-width H. Layer cells blue,
@@ -19,7 +20,9 @@
 //       the curve edges near it.
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -64,6 +67,23 @@ std::optional<Case> case_for(std::uint64_t seed, bool layers) {
     return c;
 }
 
+// FNV-1a over the mesh's point coordinates (their bits) and its triangles' corners in order:
+// two builds' --each lists then differ wherever any mesh differs in any bit.
+std::uint64_t digest(const Mesh& m) {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    auto mix = [&h](std::uint64_t word) {
+        for (int k = 0; k < 8; ++k, word >>= 8) h = (h ^ (word & 0xffu)) * 0x100000001b3ull;
+    };
+    for (std::uint32_t v = 0; v < m.point_count(); ++v) {
+        const Vec2 p = m.point(v);
+        mix(std::bit_cast<std::uint64_t>(p.x));
+        mix(std::bit_cast<std::uint64_t>(p.y));
+    }
+    for (const Triangle& t : m.triangles)
+        for (const VertexId v : t.v) mix(v);
+    return h;
+}
+
 int census(std::uint64_t from, std::uint64_t to, bool layers, bool each, bool graded_only) {
     int below = 0, meshed = 0, refused = 0, invalid = 0, closed = 0, graded = 0, crossed = 0;
     double sum = 0.0, points = 0.0;
@@ -96,8 +116,8 @@ int census(std::uint64_t from, std::uint64_t to, bool layers, bool each, bool gr
                 std::printf("seed %llu: %llu candidates refused by the crossing test\n", static_cast<unsigned long long>(seed),
                             static_cast<unsigned long long>(r.stats.interior.rejected_crossing));
             if (each)
-                std::printf("seed %llu: %zu points, %.4f degrees\n", static_cast<unsigned long long>(seed), r.quality.points,
-                            angle);
+                std::printf("seed %llu: %zu points, %.4f degrees, digest %016llx\n", static_cast<unsigned long long>(seed),
+                            r.quality.points, angle, static_cast<unsigned long long>(digest(r.mesh)));
             if (r.stats.layer_rounds > 3)
                 std::printf("seed %llu: %d layer rounds (none mended all: grown again as at first), %.2f degrees\n",
                             static_cast<unsigned long long>(seed), r.stats.layer_rounds, angle);

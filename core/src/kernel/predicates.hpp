@@ -45,7 +45,9 @@ inline Orientation orient2d(Vec2 a, Vec2 b, Vec2 c) {
 
 /// Position of d with respect to the circle through a, b, c (a, b, c counter-clockwise):
 /// > 0 inside, < 0 outside, 0 on the circle. For a, b, c clockwise the sign flips.
-inline int incircle(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+/// (Always inline: with more than a few callers the compiler stopped inlining it, and the
+/// Delaunay flips' tests, out of line, cost more than the calls they had saved.)
+[[gnu::always_inline]] inline int incircle(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
     const double adx = a.x - d.x, ady = a.y - d.y;
     const double bdx = b.x - d.x, bdy = b.y - d.y;
     const double cdx = c.x - d.x, cdy = c.y - d.y;

@@ -81,9 +81,8 @@ bool TriangleSoup::cocircular_illegal(const Triangle& T, std::uint32_t q) const 
                                 rank(T.v[2]), rank(q)) > 0;
 }
 
-template <bool kInsertion>
-std::uint64_t TriangleSoup::lawson(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
-                                   std::vector<TriangleId>* changed) {
+std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
+                                     std::vector<TriangleId>* changed) {
     std::uint64_t flips = 0;
     while (!queue.empty()) {
         const auto [t, i] = queue.back();
@@ -96,28 +95,13 @@ std::uint64_t TriangleSoup::lawson(std::vector<std::pair<TriangleId, std::uint32
             changed->push_back(t);
             changed->push_back(u);
         }
-        // The outer edges of the quad: t's edges 0 and 2, u's edges 0 and 1; after an
-        // insertion only those opposite p (t's 0, u's 0) can be illegal.
-        if (kInsertion) {
-            queue.emplace_back(t, 0);
-            queue.emplace_back(u, 0);
-        } else {
-            queue.emplace_back(t, 0);
-            queue.emplace_back(t, 2);
-            queue.emplace_back(u, 0);
-            queue.emplace_back(u, 1);
-        }
+        // The outer edges of the quad: t's edges 0 and 2, u's edges 0 and 1.
+        queue.emplace_back(t, 0);
+        queue.emplace_back(t, 2);
+        queue.emplace_back(u, 0);
+        queue.emplace_back(u, 1);
     }
     return flips;
-}
-
-std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
-                                     std::vector<TriangleId>* changed) {
-    return lawson<false>(queue, changed);
-}
-
-std::uint64_t TriangleSoup::legalize_insertion(std::vector<std::pair<TriangleId, std::uint32_t>>& queue) {
-    return lawson<true>(queue, nullptr);
 }
 
 std::pair<TriangleId, std::uint32_t> TriangleSoup::find_edge(std::uint32_t a, std::uint32_t b) const {

@@ -85,9 +85,9 @@ public:
     /// v[0] of both (the drawing is above TriangleSoup::flip in triangle_soup.cpp).
     void flip(TriangleId t, std::uint32_t i);
 
-    /// True when edge i of t is not locally Delaunay (perturbed, ranks = vertex ids). Inline:
-    /// the insertions' flips ask it ten times a point, and a call cost a fifth of its time;
-    /// the rare exact tie is out of line.
+    /// True when edge i of t is not locally Delaunay (perturbed, ranks = vertex ids, or those
+    /// given). Inline, as the flips of the refinement and of the smoothing ask it for every
+    /// edge they touch; the rare exact tie is out of line.
     bool illegal(TriangleId t, std::uint32_t i) const {
         const Triangle& T = t_[t];
         const TriangleId u = T.n[i];
@@ -102,11 +102,6 @@ public:
     /// triangles of every flip are appended to `changed` when given.
     std::uint64_t legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
                            std::vector<TriangleId>* changed = nullptr);
-
-    /// legalize() after inserting a point p, for a queue of edges (t, i) with t.v[i] == p
-    /// (as split_triangle and split_edge leave it). Edges incident to p are Delaunay, so only
-    /// the two new edges opposite p are tested after a flip: half the in-circle tests.
-    std::uint64_t legalize_insertion(std::vector<std::pair<TriangleId, std::uint32_t>>& queue);
 
     /// The triangle holding the directed edge a -> b (a at index k, b at k+1), or kNoTriangle.
     /// Needs the vertex index.
@@ -132,8 +127,6 @@ public:
 private:
     // illegal() for a fourth point q exactly on the circle of T: the perturbation decides.
     bool cocircular_illegal(const Triangle& T, std::uint32_t q) const;
-    template <bool kInsertion>
-    std::uint64_t lawson(std::vector<std::pair<TriangleId, std::uint32_t>>& queue, std::vector<TriangleId>* changed);
     TriangleId new_triangle();
     void relink(TriangleId nb, TriangleId old_t, TriangleId new_t);
 
