@@ -92,7 +92,9 @@ public:
         const Triangle& T = t_[t];
         const TriangleId u = T.n[i];
         if (u == kNoTriangle || edge_bit(T.constrained, i)) return false;
-        const std::uint32_t q = t_[u].v[back_index(u, t)];
+        // u's corner off the shared edge, without a search: its corners' sum less the edge's.
+        const Triangle& U = t_[u];
+        const std::uint32_t q = U.v[0] + U.v[1] + U.v[2] - T.v[next3(i)] - T.v[prev3(i)];
         const int s = incircle(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]], pts_[q]);
         return s != 0 ? s > 0 : cocircular_illegal(T, q);
     }
