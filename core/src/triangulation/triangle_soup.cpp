@@ -119,22 +119,52 @@ TriangleId TriangleSoup::wedge(VertexId v, Vec2 c) const {
     });
 }
 
+// The walk leaves a triangle through the first edge (in index order) that has `to` strictly
+// beyond it and that the line from -> to meets (closed). An edge it leaves through runs, in the
+// triangle's counter-clockwise order, from the line's right (or on it) to its left (or on
+// it), and the next triangle is entered through the same edge the other way round, so `to`
+// is not beyond it there. Where the edge it came through had its ends strictly on either
+// side of the line, and the next triangle's far corner w is strictly on one side too, the
+// line can only leave through the one edge whose ends are on opposite sides: w's side names
+// it, and `to` beyond it or not decides the step. Two orientations a triangle instead of four
+// or five, the same steps as the whole test (which the first triangle, and any where the line
+// meets a corner, still take).
 WalkEnd TriangleSoup::walk(TriangleId t, Vec2 from, Vec2 to, int max_steps) const {
+    TriangleId came_from = kNoTriangle;  // set when the edge crossed had its ends strictly apart
     for (int steps = 0; steps < max_steps; ++steps) {
         const Triangle& T = t_[t];
         int exit = -1;
-        for (std::uint32_t i = 0; i < 3; ++i) {
-            const Vec2 a = pts_[T.v[next3(i)]], b = pts_[T.v[prev3(i)]];
-            if (orient2d(a, b, to) != Orientation::Right) continue;  // `to` not beyond edge i
-            // Does the segment leave through edge i (closed)?
-            if (orient2d(from, to, a) != Orientation::Left && orient2d(from, to, b) != Orientation::Right) {
+        bool apart = false;
+        if (came_from != kNoTriangle) {
+            // Edge k, the way in, runs from its left end L = v[k+1] to its right end R = v[k+2].
+            const std::uint32_t k = back_index(t, came_from);
+            const Orientation ow = orient2d(from, to, pts_[T.v[k]]);
+            if (ow != Orientation::Collinear) {
+                // w on the left: out through R -> w (edge k+1); on the right: w -> L (edge k+2).
+                const std::uint32_t i = ow == Orientation::Left ? next3(k) : prev3(k);
+                if (orient2d(pts_[T.v[next3(i)]], pts_[T.v[prev3(i)]], to) != Orientation::Right) return {t, -1};
                 exit = static_cast<int>(i);
-                break;
+                apart = true;
             }
         }
-        if (exit < 0) return {t, -1};  // `to` is in t (closed)
+        if (exit < 0) {
+            for (std::uint32_t i = 0; i < 3; ++i) {
+                const Vec2 a = pts_[T.v[next3(i)]], b = pts_[T.v[prev3(i)]];
+                if (orient2d(a, b, to) != Orientation::Right) continue;  // `to` not beyond edge i
+                // Does the segment leave through edge i (closed)?
+                const Orientation oa = orient2d(from, to, a);
+                if (oa == Orientation::Left) continue;
+                const Orientation ob = orient2d(from, to, b);
+                if (ob == Orientation::Right) continue;
+                exit = static_cast<int>(i);
+                apart = oa != Orientation::Collinear && ob != Orientation::Collinear;
+                break;
+            }
+            if (exit < 0) return {t, -1};  // `to` is in t (closed)
+        }
         const auto i = static_cast<std::uint32_t>(exit);
         if (edge_bit(T.constrained, i) || T.n[i] == kNoTriangle) return {t, exit};
+        came_from = apart ? t : kNoTriangle;
         t = T.n[i];
     }
     return {kNoTriangle, -1};
