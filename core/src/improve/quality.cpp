@@ -103,7 +103,7 @@ QualityMetrics measure_quality(const Mesh& m, const SizeField& rho) {
         // Side i, opposite corner i, from corner i + 1 to corner i + 2.
         const std::array<double, 3> side{distance(p[1], p[2]), distance(p[2], p[0]), distance(p[0], p[1])};
         const double rr = radius_ratio_of(p[0], p[1], p[2], side[0], side[1], side[2]);
-        q.quality_min = std::fmin(q.quality_min, rr);
+        q.quality_min = fmin_inline(q.quality_min, rr);  // libm's fmin is a call through the PLT
         quality_sum += rr;
         q.quality_histogram[std::min<size_t>(9, static_cast<size_t>(rr * 10.0))]++;
         for (std::uint32_t i = 0; i < 3; ++i) {
