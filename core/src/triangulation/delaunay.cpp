@@ -145,6 +145,10 @@ private:
     // last step has asked every edge, so the insertion need not ask again.
     TriangleId locate(const Vec2& p, TriangleId t, int& on_edge) {
         std::uint32_t r = 0;
+        // In a Delaunay triangulation a visibility walk never comes back to a triangle, so it
+        // takes at most as many steps as there are triangles; more is a broken triangulation,
+        // reported rather than walked forever.
+        size_t steps = 0;
         for (;;) {
             const Triangle& T = tris_[t];
             bool moved = false;
@@ -157,6 +161,7 @@ private:
                 const Orientation o = orient2d(a, b, p);
                 if (o == Orientation::Right) {
                     MESHD_INTERNAL_CHECK(T.n[i] != kNoTriangle, "point outside the enclosing triangle");
+                    MESHD_INTERNAL_CHECK(++steps <= tris_.size(), "point location does not terminate");
                     t = T.n[i] / 3;
                     moved = true;
                     ++stats_.walk_steps;
