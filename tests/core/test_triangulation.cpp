@@ -6,12 +6,14 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <numbers>
 #include <random>
 
 #include "meshd/core/errors.hpp"
 #include "meshd/core/mesh.hpp"
 #include "kernel/predicates.hpp"
+#include "triangulation/triangle_soup.hpp"
 #include "triangulation/triangulation.hpp"
 #include "fixtures.hpp"
 
@@ -285,4 +287,84 @@ TEST(Triangulators, FuzzNearlyFlatTriangleDoesNotEndTheSearchEarly) {
     const TriangulationResult f = triangulate_advancing_front(pts, cons);
     expect_valid(mesh_of(pts, 0, f, cons));
     EXPECT_EQ(canonical(f.triangles), canonical(d.triangles));
+}
+
+// TriangleSoup::walk on a lattice (segments through corners and along edges) with random
+// points between, from a random point or from a lattice point (starting, as the interior's
+// walks do, in the triangle whose wedge at it holds the direction): every walk to a point of
+// the domain that comes nowhere near the embedded segment ends in a triangle holding it
+// (closed), and every walk across the segment's inside, between its points, stops at one of
+// its edges.
+TEST(TriangleSoup, AStraightWalkEndsWhereItsTargetIsOrAtTheConstraintItCrosses) {
+    Array<Vec2> pts;
+    for (int y = 0; y <= 8; ++y)
+        for (int x = 0; x <= 8; ++x) pts.push_back({static_cast<double>(x), static_cast<double>(y)});
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 8.0);
+    for (int k = 0; k < 60; ++k) pts.push_back({u(rng), u(rng)});
+    auto at = [](int x, int y) { return static_cast<std::uint32_t>(9 * y + x); };
+    std::vector<Constraint> cons;
+    for (int k = 0; k < 8; ++k) {
+        cons.push_back({at(k, 0), at(k + 1, 0), true});
+        cons.push_back({at(8, k), at(8, k + 1), true});
+        cons.push_back({at(8 - k, 8), at(7 - k, 8), true});
+        cons.push_back({at(0, 8 - k), at(0, 7 - k), true});
+    }
+    // An embedded segment along y = 4 from x = 1 to x = 7, through the lattice points on it.
+    cons.push_back({at(1, 4), at(7, 4), false});
+    TriangulationResult r = triangulate_delaunay(pts, cons);
+    const detail::TriangleSoup soup(pts, r.triangles, true);
+    auto holds = [&](TriangleId t, Vec2 p) {
+        const Triangle& T = r.triangles[t];
+        for (std::uint32_t i = 0; i < 3; ++i)
+            if (orient2d(pts[T.v[(i + 1) % 3]], pts[T.v[(i + 2) % 3]], p) == Orientation::Right) return false;
+        return true;
+    };
+    auto containing = [&](Vec2 p) {
+        for (TriangleId t = 0; t < r.triangles.size(); ++t)
+            if (holds(t, p)) return t;
+        return kNoTriangle;
+    };
+    auto lattice = [](Vec2 p) { return p.x == std::floor(p.x) && p.y == std::floor(p.y); };
+    // Ends at lattice points half the time, so that walks run through corners and along edges.
+    std::uniform_int_distribution<int> cell(0, 8), coin(0, 1);
+    auto pick = [&] {
+        return coin(rng) ? Vec2{static_cast<double>(cell(rng)), static_cast<double>(cell(rng))} : Vec2{u(rng), u(rng)};
+    };
+    int crossings = 0, inside = 0, through_corners = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const Vec2 from = pick(), to = pick();
+        const TriangleId start = lattice(from) ? soup.wedge(at(static_cast<int>(from.x), static_cast<int>(from.y)), to)
+                                               : containing(from);
+        ASSERT_NE(start, kNoTriangle);
+        const detail::WalkEnd end = soup.walk(start, from, to, 1000);
+        ASSERT_NE(end.triangle, kNoTriangle) << "the walk did not end";
+        // Where the segment meets the line y = 4, if its ends are strictly on either side.
+        const bool apart = (from.y < 4.0 && to.y > 4.0) || (from.y > 4.0 && to.y < 4.0);
+        const double x4 = apart ? from.x + (to.x - from.x) * (4.0 - from.y) / (to.y - from.y) : 0.0;
+        const double eps = 1e-9;
+        const bool crosses = apart && x4 > 1.0 + eps && x4 < 7.0 - eps && std::fabs(x4 - std::round(x4)) > eps;
+        const bool near = (apart && x4 > 1.0 - eps && x4 < 7.0 + eps) ||
+                          ((from.y == 4.0 || to.y == 4.0) && std::fmin(from.x, to.x) <= 7.0 && std::fmax(from.x, to.x) >= 1.0);
+        if (crosses) {
+            ++crossings;
+            ASSERT_GE(end.edge, 0) << "walked across the embedded segment";
+            const Triangle& T = r.triangles[end.triangle];
+            const auto i = static_cast<std::uint32_t>(end.edge);
+            EXPECT_TRUE(edge_bit(T.constrained, i));
+            EXPECT_EQ(pts[T.v[(i + 1) % 3]].y, 4.0);
+            EXPECT_EQ(pts[T.v[(i + 2) % 3]].y, 4.0);
+        } else if (!near) {
+            ++inside;
+            ASSERT_EQ(end.edge, -1) << "stopped at an edge it need not cross";
+            EXPECT_TRUE(holds(end.triangle, to)) << "(" << from.x << ", " << from.y << ") -> (" << to.x << ", " << to.y << ")";
+            // Lattice segments whose line runs through another lattice point: degenerate steps.
+            if (lattice(from) && lattice(to) &&
+                std::gcd(static_cast<int>(std::fabs(to.x - from.x)), static_cast<int>(std::fabs(to.y - from.y))) > 1)
+                ++through_corners;
+        }
+    }
+    EXPECT_GT(crossings, 1000);
+    EXPECT_GT(inside, 5000);
+    EXPECT_GT(through_corners, 300);
 }
