@@ -271,16 +271,14 @@ private:
         return t4;
     }
 
-    // True when edge i of t is not locally Delaunay (perturbed by rank).
+    // True when edge i of t is not locally Delaunay (perturbed by rank, as the soup's).
     bool illegal(TriangleId t, std::uint32_t i) const {
         const Triangle& T = tris_[t];
         const std::uint32_t h = T.n[i];
         if (h == kNoTriangle) return false;
         const std::uint32_t q = tris_[h / 3].v[h % 3];
         const int s = incircle(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]], pts_[q]);
-        if (s != 0) return s > 0;
-        return detail::incircle_tie(pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]], pts_[q], rank_[T.v[0]], rank_[T.v[1]],
-                                    rank_[T.v[2]], rank_[q]) > 0;
+        return s != 0 ? s > 0 : soup_->cocircular_illegal(T, q);
     }
 
     // Flips edge i of t = (p, b, c) (p = v[i]) with u = (q, c, b) across it: t = (p, b, q),

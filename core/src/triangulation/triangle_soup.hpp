@@ -99,6 +99,10 @@ public:
         return s != 0 ? s > 0 : cocircular_illegal(T, q);
     }
 
+    /// illegal() for a fourth point q exactly on the circle of T: the perturbation decides
+    /// (by the soup's ranks). Out of line, as it is rare.
+    bool cocircular_illegal(const Triangle& T, std::uint32_t q) const;
+
     /// Lawson: flips until every edge in the queue (and every edge touched by a flip) is
     /// locally Delaunay. Edges as (triangle, index). Returns the number of flips; the two
     /// triangles of every flip are appended to `changed` when given.
@@ -127,8 +131,6 @@ public:
     void rebuild_vertex_index();
 
 private:
-    // illegal() for a fourth point q exactly on the circle of T: the perturbation decides.
-    bool cocircular_illegal(const Triangle& T, std::uint32_t q) const;
     TriangleId new_triangle();
     void relink(TriangleId nb, TriangleId old_t, TriangleId new_t);
 
