@@ -249,14 +249,20 @@ private:
     // The candidate of (4.3)/(4.7)/(4.12)/(4.19) for segment a -> b with radii ra, rb.
     static bool candidate(Vec2 a, Vec2 b, double ra, double rb, bool boundary, Vec2& c) {
         const Vec2 ab = b - a;
-        const double l = norm(ab);
+        const double l2 = norm2(ab), l = std::sqrt(l2);
         if (!(l > 0.0)) return false;
-        const Vec2 u = ab / l, v = perp(u);
         if (ra + rb > l && ra + l > rb && rb + l > ra) {
-            const double x = (l * l + ra * ra - rb * rb) / (2.0 * l);
-            const double h = std::sqrt(fmax_inline(ra * ra - x * x, 0.0));
-            c = a + x * u + h * v;
-        } else if (ra + rb <= l) {
+            // C = A + x u + h v with u = AB / l, v = perp(u), x = (l^2 + ra^2 - rb^2) / 2l and
+            // h = sqrt(ra^2 - x^2), written in x / l and h / l: one division and one square
+            // root in a row instead of two of each (the length's root is only compared).
+            const double inv = 1.0 / l2;
+            const double xl = 0.5 * (l2 + ra * ra - rb * rb) * inv;
+            const double hl = std::sqrt(fmax_inline(ra * ra * inv - xl * xl, 0.0));
+            c = a + xl * ab + hl * perp(ab);
+            return is_finite(c);
+        }
+        const Vec2 u = ab / l, v = perp(u);
+        if (ra + rb <= l) {
             // (4.7-4.9): the point dividing AB as ra : rb. On a segment of the boundary that
             // would put a point on the boundary; there the apex of the equilateral triangle
             // is used instead.
