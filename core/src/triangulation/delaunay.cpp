@@ -192,11 +192,15 @@ private:
         TriangleId last = on_edge < 0 ? split_triangle(t, v) : split_edge(t, static_cast<std::uint32_t>(on_edge), v);
         // Lawson's flips: after an insertion only the edges opposite v can be illegal, and
         // each flip leaves v at corner 0 of both its triangles, opposite the two new outer
-        // edges of the quad.
+        // edges of the quad. Each flip makes one more edge at v, so a valid triangulation
+        // takes fewer flips than it has triangles; more is a broken one, reported rather than
+        // flipped forever.
+        size_t flips = 0;
         while (!queue_.empty()) {
             const auto [f, i] = queue_.back();
             queue_.pop_back();
             if (!illegal(f, i)) continue;
+            MESHD_INTERNAL_CHECK(++flips <= tris_.size(), "an insertion's flips do not terminate");
             const TriangleId u = flip(f, i);
             ++stats_.flips;
             last = f;

@@ -12,6 +12,10 @@ namespace meshd::core {
 
 namespace detail {
 
+void TriangleSoup::fan_does_not_close() {
+    throw InternalError("the triangles around a vertex do not close", __FILE__, __LINE__);
+}
+
 void TriangleSoup::set_flag(TriangleId t, std::uint32_t i, bool constrained, bool boundary) {
     auto set = [&](TriangleId tt, std::uint32_t ii) {
         const std::uint8_t bit = static_cast<std::uint8_t>(1u << ii);
@@ -84,10 +88,14 @@ bool TriangleSoup::cocircular_illegal(const Triangle& T, std::uint32_t q) const 
 std::uint64_t TriangleSoup::legalize(std::vector<std::pair<TriangleId, std::uint32_t>>& queue,
                                      std::vector<TriangleId>* changed) {
     std::uint64_t flips = 0;
+    // Lawson's flips never bring back an edge they removed (each lowers the lifted surface),
+    // so they end within one flip per pair of points; more is a broken triangulation.
+    const std::uint64_t n = pts_.size(), most = n * (n - 1) / 2;
     while (!queue.empty()) {
         const auto [t, i] = queue.back();
         queue.pop_back();
         if (!illegal(t, i)) continue;
+        MESHD_INTERNAL_CHECK(flips < most, "Lawson's flips do not terminate");
         const TriangleId u = t_[t].n[i];
         flip(t, i);  // p = old t.v[i] is now v[0] of both t = (p, b, q) and u = (p, q, c)
         ++flips;

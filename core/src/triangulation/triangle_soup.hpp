@@ -47,18 +47,24 @@ public:
     /// when the fan is open (v on the boundary of the soup) then clockwise from there. Stops
     /// at the first triangle for which visit(t) is true and returns it; else kNoTriangle.
     /// Needs the vertex index.
+    /// A fan that takes more steps than the soup has triangles never closes: a broken soup,
+    /// reported (InternalError) rather than walked forever.
     template <class Visit>
     TriangleId around(VertexId v, Visit&& visit) const {
         const TriangleId start = vtri_[v];
         if (start == kNoTriangle) return kNoTriangle;
         TriangleId t = start;
+        size_t steps = 0;
         do {
             if (visit(t)) return t;
             t = t_[t].n[next3(index_of(t_[t], v))];
+            if (++steps > t_.size()) fan_does_not_close();
         } while (t != kNoTriangle && t != start);
         if (t == start) return kNoTriangle;
-        for (t = t_[start].n[prev3(index_of(t_[start], v))]; t != kNoTriangle; t = t_[t].n[prev3(index_of(t_[t], v))])
+        for (t = t_[start].n[prev3(index_of(t_[start], v))]; t != kNoTriangle; t = t_[t].n[prev3(index_of(t_[t], v))]) {
             if (visit(t)) return t;
+            if (++steps > t_.size()) fan_does_not_close();
+        }
         return kNoTriangle;
     }
 
@@ -134,6 +140,7 @@ private:
     TriangleId new_triangle();
     void relink(TriangleId nb, TriangleId old_t, TriangleId new_t);
 
+    [[noreturn]] static void fan_does_not_close();
     const Array<Vec2>& pts_;
     Array<Triangle>& t_;
     bool track_;
