@@ -74,6 +74,14 @@ public:
         n_ = static_cast<size_t>(std::to_chars(buf_ + n_, buf_ + sizeof buf_, v).ptr - buf_);
         return *this;
     }
+    /// Room for k characters at the cursor returned; done(p) keeps what was written up to p.
+    /// For runs of tokens written through a local pointer: each token through the operators
+    /// above reloads the buffer's fill count, as any character stored may alias it.
+    char* claim(size_t k) {
+        room(k);
+        return buf_ + n_;
+    }
+    void done(const char* p) { n_ = static_cast<size_t>(p - buf_); }
     // GCC at -O1 (the sanitizers' build) takes buf_ for unwritten where numbers went in by
     // shortest(), out of its sight: only the n_ characters written so far are passed.
 #if defined(__GNUC__) && !defined(__clang__)

@@ -59,8 +59,15 @@ void write_json(const MeshResult& r, std::ostream& stream, bool sizes) {
     os << "{\"mesh\":{" << (quadratic ? "\"order\":2," : "") << "\"points\":[";
     for (size_t v = 0; v < all_points(m); ++v) {
         const core::Vec2 p = any_point(m, v);
-        if (v) os << ',';
-        os << '[' << Num(p.x) << ',' << Num(p.y) << ']';
+        // shortest() takes kShortestMax at each number, whatever it writes.
+        char* at = os.claim(2 * kShortestMax + 4);
+        if (v) *at++ = ',';
+        *at++ = '[';
+        at = shortest(at, p.x);
+        *at++ = ',';
+        at = shortest(at, p.y);
+        *at++ = ']';
+        os.done(at);
     }
     os << ']';
     if (sizes) {
@@ -75,8 +82,14 @@ void write_json(const MeshResult& r, std::ostream& stream, bool sizes) {
     os << ",\"triangles\":[";
     for (size_t t = 0; t < m.triangles.size(); ++t) {
         const auto& T = m.triangles[t];
-        if (t) os << ',';
-        os << '[' << T.v[0] << ',' << T.v[1] << ',' << T.v[2];
+        char* at = os.claim(40);  // ",[" and three indices of at most 10 digits, two commas
+        if (t) *at++ = ',';
+        *at++ = '[';
+        for (int i = 0; i < 3; ++i) {
+            if (i) *at++ = ',';
+            at = std::to_chars(at, at + 10, T.v[static_cast<size_t>(i)]).ptr;
+        }
+        os.done(at);
         if (quadratic) {
             const auto six = six_nodes(m, t);
             os << ',' << six[3] << ',' << six[4] << ',' << six[5];
