@@ -289,6 +289,24 @@ TEST(Triangulators, FuzzNearlyFlatTriangleDoesNotEndTheSearchEarly) {
     EXPECT_EQ(canonical(f.triangles), canonical(d.triangles));
 }
 
+// A soup whose links around a vertex run in a circle that misses the triangle the walk starts
+// from (a broken soup, as a flip that relinks the wrong edge leaves): walking around the
+// vertex ends in an internal error, not a loop. Triangle 2, where the walk around vertex 0
+// starts (the vertex index keeps the last triangle of each vertex), leads to triangle 0, and
+// triangles 0 and 1 lead to each other.
+TEST(TriangleSoup, AFanThatNeverClosesIsAnInternalErrorNotALoop) {
+    Array<Vec2> pts(7, Vec2{0.0, 0.0});
+    Array<Triangle> tris;
+    tris.push_back({{0, 1, 2}, {kNoTriangle, 1, kNoTriangle}});
+    tris.push_back({{0, 3, 4}, {kNoTriangle, 0, kNoTriangle}});
+    tris.push_back({{0, 5, 6}, {kNoTriangle, 0, kNoTriangle}});
+    const detail::TriangleSoup soup(pts, tris, true);
+    ASSERT_EQ(soup.vertex_triangle(0), 2u);
+    int visits = 0;
+    EXPECT_THROW(soup.around(0, [&](TriangleId) { return ++visits < 0; }), InternalError);
+    EXPECT_LE(visits, 4);  // no more visits than triangles, and the start's
+}
+
 // TriangleSoup::walk on a lattice (segments through corners and along edges) with random
 // points between, from a random point or from a lattice point (starting, as the interior's
 // walks do, in the triangle whose wedge at it holds the direction): every walk to a point of
