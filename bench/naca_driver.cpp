@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -53,6 +54,13 @@ int random_points(size_t n) {
 int main(int argc, char** argv) {
     if (argc >= 3 && std::strcmp(argv[1], "--random") == 0) return random_points(std::strtoull(argv[2], nullptr, 10));
     const double s = argc > 1 ? std::atof(argv[1]) : 1.0;
+    if (!(s > 0.0) || !std::isfinite(s)) {
+        std::fprintf(stderr,
+                     "usage: meshd_naca_bench [S] [delaunay|advancing-front] [--repeat N] [--own-spacing]\n"
+                     "       meshd_naca_bench --random N\n"
+                     "S, the density's scale, is a positive number (1 unless given)\n");
+        return 2;
+    }
     const Domain dom = build_domain(meshd::bench::naca_case_domain());
     DensitySpec ds;
     ds.size = meshd::bench::naca_case_density(s);
