@@ -371,6 +371,27 @@ TEST(RandomDomains, AFixedPointsFanGivesUpATriangleItHasNoRoomFor) {
     }
 }
 
+// The defaults' last resort: a triangle of the isotropic part that the repair left at 29.6
+// degrees (seed 146694 with layers: the field grades from a small square hole's layers to a
+// coarse far wall) is refined to 30 degrees, as min_angle_deg 30 would. A mesh the repair
+// left at 30 or more (seed 148 with layers, once below 30 and mended otherwise) is not.
+TEST(RandomDomains, ATriangleTheRepairLeavesSharpIsRefinedToThirtyDegrees) {
+    const LayeredCase lc = layered_case(146694);
+    const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+    EXPECT_TRUE(check_mesh(r.mesh, false).empty());
+    const auto [angle, where] = smallest_free_angle(r.mesh);
+    EXPECT_GE(angle, 30.0) << "at (" << where.x << ", " << where.y << ")";
+    EXPECT_GT(r.stats.refinement_points, 0u);
+    // The refinement asked of the request gives the same mesh: the defaults ask it of this one.
+    MeshOptions asked = lc.options;
+    asked.min_angle_deg = 30.0;
+    EXPECT_TRUE(same_mesh(r.mesh, generate_mesh(lc.domain, lc.rc.density, asked).mesh));
+    const LayeredCase fine = layered_case(148);
+    const MeshResult f = generate_mesh(fine.domain, fine.rc.density, fine.options);
+    EXPECT_GE(smallest_free_angle(f.mesh).first, 30.0);
+    EXPECT_EQ(f.stats.refinement_points, 0u);
+}
+
 // A spoke's foot on a circle near the circle's start point: the corner cap at the foot asks
 // for the spoke's length there, but the short arc between the two named points, 1.2 segments
 // under the cap's cone, rounds to one segment 1.9 times the spoke (seed 2539: 21.3 degrees).
