@@ -386,6 +386,9 @@ TEST(RandomDomains, ATriangleTheRepairLeavesSharpIsRefinedToThirtyDegrees) {
     MeshOptions asked = lc.options;
     asked.min_angle_deg = 30.0;
     EXPECT_TRUE(same_mesh(r.mesh, generate_mesh(lc.domain, lc.rc.density, asked).mesh));
+    // A lower bound asked does not take the defaults' 30 degrees away.
+    asked.min_angle_deg = 20.0;
+    EXPECT_TRUE(same_mesh(r.mesh, generate_mesh(lc.domain, lc.rc.density, asked).mesh));
     const LayeredCase fine = layered_case(148);
     const MeshResult f = generate_mesh(fine.domain, fine.rc.density, fine.options);
     EXPECT_GE(smallest_free_angle(f.mesh).first, 30.0);

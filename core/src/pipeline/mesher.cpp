@@ -162,7 +162,7 @@ constexpr int kLayerRounds = 3;
 /// its corners, and one of fixed points alone places the curves again (cap_closing_
 /// triangles): 30 degrees, the smallest angle issue 15 asks of every domain.
 constexpr double kSharpTan = std::numbers::inv_sqrt3;
-constexpr double kSharpAngleDeg = 30.0;
+constexpr double kSharpAngleDeg = 30.0;  // the same angle, for refine_min_angle
 
 // Whether triangle t has a corner sharper than kSharpTan, but for a corner between two
 // constrained edges (the domain's own, the layers' outer edge where it bends). Without an
@@ -520,13 +520,14 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
 
     // The defaults' last resort for 30 degrees: a mesh that the curves' agreement, the closing
     // rounds and the smoothing's repair left with a sharp triangle (sharp(): not at a corner
-    // between two constrained edges) is refined to 30 degrees as min_angle_deg would. One mesh
-    // in 68,818 of the random domains' census with layers needed it (seed 146694, a triangle of
-    // the isotropic part at 29.6 degrees); every other mesh is left as it was.
-    const double min_angle = options.min_angle_deg > 0.0 ? options.min_angle_deg
-                             : options.curve_agreement && options.smoothing_iterations > 0 && any_sharp(m)
-                                 ? kSharpAngleDeg
-                                 : 0.0;
+    // between two constrained edges) is refined to 30 degrees as min_angle_deg would, or to
+    // the request's min_angle_deg where that is higher (a lower one does not take the defaults'
+    // 30 away). One mesh in 68,818 of the random domains' census with layers needed it (seed
+    // 146694, a triangle of the isotropic part at 29.6 degrees); every other mesh is left as it
+    // was.
+    const bool last_resort = options.curve_agreement && options.smoothing_iterations > 0 &&
+                             options.min_angle_deg < kSharpAngleDeg && any_sharp(m);
+    const double min_angle = std::max(options.min_angle_deg, last_resort ? kSharpAngleDeg : 0.0);
     if (min_angle > 0.0) {
         t0 = Clock::now();
         r.stats.refinement_points = refine_min_angle(m, domain, rho, min_angle, options.max_points, observer);
