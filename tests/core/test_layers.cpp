@@ -414,3 +414,30 @@ TEST(LayersBesideAFreeEnd, AreNotCutWhereTheEndsCrossReachesIntoAFinerField) {
     EXPECT_EQ(r.quality.boundary_layers[0].cut_back, 0u);
     EXPECT_EQ(r.quality.boundary_layers[0].layers_min, 12);
 }
+
+// Found by fuzz/fuzz_request (crash 7e6d2a1c): the bottom wall's layers are cut back to none
+// at B, where the right side leans away, and stand two layers high at A on the left side. The
+// layers' outer edge then runs from the column's top on the left side straight to the corner
+// B, and the smoothing took B for an end of the left side: it let the top slide along the
+// side down past the column's first point, and a layer triangle turned over. The points the
+// columns leave on the sides stay at whole multiples of the first height (growth 1) from the
+// walls.
+TEST(LayersOnASide, TheColumnsPointsStayWhereTheLayersPutThem) {
+    DomainSpec s;
+    s.points = {{"A", {0, 0}}, {"B", {1, 0}}, {"C", {2, 1}}, {"D", {0, 1}}};
+    s.curves = {line("bottom", "A", "B", "wall"), line("right", "B", "C"), line("top", "C", "D", "wall"),
+                line("left", "D", "A")};
+    s.loops = {loop({"bottom", "right", "top", "left"})};
+    MeshOptions o;
+    o.boundary_layers = {spec({"wall"}, 0.1, 1.0, 200)};
+    const MeshResult r = generate_mesh(s, density_of("2.1"), o);
+    EXPECT_TRUE(check_mesh(r.mesh, false).empty());
+    size_t on_left = 0;
+    for (VertexId v = 0; v < r.mesh.point_count(); ++v) {
+        if (r.mesh.x[v] != 0.0) continue;
+        ++on_left;
+        const double tenths = r.mesh.y[v] / 0.1;
+        EXPECT_NEAR(tenths, std::round(tenths), 1e-9) << "point " << v << " at y = " << r.mesh.y[v];
+    }
+    EXPECT_GE(on_left, 4u) << "A, D and a layer point from each wall";
+}

@@ -267,25 +267,19 @@ private:
     }
 
     // The parameter on curve c of w, a neighbour along it of the point of c at parameter t0:
-    // its own, or for the corner at an end of c (or at a corner of c's geometry) that end's,
-    // the one nearer t0 where two give the same point (a closed curve's seam); NaN for
-    // anything else (a boundary layer's top standing on c).
+    // its own, or for the vertex at an end of c that end's (at a closed curve's seam, the one
+    // nearer t0); NaN for anything else: a boundary layer's top standing on c, or a corner
+    // that ends another curve (a layer's outer edge can run from a point of c to it).
     double param_on(CurveId c, std::uint32_t w, double t0) const {
         if (m_.curve[w] == c) return m_.param[w];
-        if (m_.kind[w] != PointKind::Corner) return std::nan("");
+        if (c >= m_.curve_ends.size()) return std::nan("");
+        const auto& ends = m_.curve_ends[c];
         const Curve& g = *domain_->curves()[c].geometry;
-        std::vector<double> ts = g.corners();
-        ts.push_back(g.t_begin());
-        ts.push_back(g.t_end());
-        double best = std::nan(""), nearest = HUGE_VAL;
-        for (const double t : ts) {
-            const double d = distance(g.point(t), pts_[w]);
-            if (d < nearest || (d == nearest && std::abs(t - t0) < std::abs(best - t0))) {
-                nearest = d;
-                best = t;
-            }
-        }
-        return best;
+        if (ends[0] == w && ends[1] == w)
+            return std::abs(t0 - g.t_begin()) <= std::abs(g.t_end() - t0) ? g.t_begin() : g.t_end();
+        if (ends[0] == w) return g.t_begin();
+        if (ends[1] == w) return g.t_end();
+        return std::nan("");
     }
 
     // Moves point v of a curve along it, between its two neighbours on the curve, to where
