@@ -53,6 +53,7 @@ public:
         std::vector<TriangleId> queue;
         for (TriangleId t = 0; t < m_.triangles.size(); ++t)
             if (bad(t)) queue.push_back(t);
+        fallbacks_left_ = 16 + 4 * queue.size();
         std::uint64_t inserted = 0, steps = 0;
         while (!queue.empty()) {
             if ((++steps & 255) == 0 && obs_) {
@@ -111,6 +112,13 @@ private:
 
     // Fixes triangle t by one insertion; false when nothing could be inserted.
     bool fix(TriangleId t) {
+        if (by_centre(t)) return true;
+        // The centre could not go in (a boundary layer's outer edge, which cannot be split, in
+        // the way or too near): a point beside the sharp corner instead.
+        return fallbacks_left_ > 0 && beside_corner(t);
+    }
+
+    bool by_centre(TriangleId t) {
         const Triangle& T = m_.triangles[t];
         const Vec2 a = pts_[T.v[0]], b = pts_[T.v[1]], c = pts_[T.v[2]];
         const Vec2 centre = circumcentre(a, b, c);
@@ -131,24 +139,157 @@ private:
                 if (dot(e0 - centre, e1 - centre) < 0.0) return split_segment(x, i);
             }
         }
-        const Triangle& C = m_.triangles[cur];
-        for (auto v : C.v)
-            if (pts_[v] == centre) return false;
-        int on_edge = -1;
-        for (std::uint32_t i = 0; i < 3; ++i)
-            if (orient2d(pts_[C.v[next3(i)]], pts_[C.v[prev3(i)]], centre) == Orientation::Collinear) on_edge = static_cast<int>(i);
         // Beside a boundary layer's outer edge, which cannot be split, a centre can land close
         // to a column's top, in a notch between columns: the triangles it makes there with
         // the layer's points are then worse than t, and each such insertion makes the next
         // worse still (a smallest angle of 22 degrees went to 3 with min_angle_deg 28). Such
         // a centre is not inserted.
         if (smallest_angle_after(cur, centre) < smallest_angle(a, b, c)) return false;
-        const std::uint32_t p = add_point(centre, PointKind::Interior, kNoCurve, 0.0);
+        return insert_in(cur, centre);
+    }
+
+    // Point p into triangle cur, which holds it, and the Lawson flips after it; false when p
+    // is one of cur's corners.
+    bool insert_in(TriangleId cur, Vec2 p) {
+        const Triangle& C = m_.triangles[cur];
+        for (auto v : C.v)
+            if (pts_[v] == p) return false;
+        int on_edge = -1;
+        for (std::uint32_t i = 0; i < 3; ++i)
+            if (orient2d(pts_[C.v[next3(i)]], pts_[C.v[prev3(i)]], p) == Orientation::Collinear) on_edge = static_cast<int>(i);
+        const std::uint32_t v = add_point(p, PointKind::Interior, kNoCurve, 0.0);
         queue_.clear();
-        if (on_edge < 0) soup_->split_triangle(cur, p, queue_);
-        else soup_->split_edge(cur, static_cast<std::uint32_t>(on_edge), p, queue_);
+        if (on_edge < 0) soup_->split_triangle(cur, v, queue_);
+        else soup_->split_edge(cur, static_cast<std::uint32_t>(on_edge), v, queue_);
         soup_->legalize(queue_);
         return true;
+    }
+
+    // The fallback for a triangle t whose centre cannot go in: its sharp corner k lies between
+    // two edges, and a new point in the triangle across one of them (where that edge is free)
+    // lets the flips take that edge away, and with it the sharp wedge at k. For each such
+    // neighbour u the point starts at u's centroid; the triangles whose circumcircles hold it
+    // (reached without crossing a constrained edge: the cavity the insertion opens) are
+    // replaced by the fan from the point to the cavity's outline, and the point moves (a
+    // pattern search) to where the fan's smallest angle is largest. The best of the two goes
+    // in when the cavity holds t and the fan's smallest angle beats t's (and so every
+    // angle the cavity holds now): the flips after the insertion leave no worse there (of a
+    // quad's two diagonals they keep the one with the larger smallest angle). The smoothing's repair then places the
+    // point once more. Seed 145352 of the random domains with layers: a triangle of three
+    // fixed points in a narrow gap between two holes' layers, at 25.3 degrees, whose centre
+    // lay past the layers' outer edge.
+    bool beside_corner(TriangleId t) {
+        const Triangle& T = m_.triangles[t];
+        const Vec2 p[3] = {pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]};
+        std::uint32_t k = 0;
+        double sharpest = HUGE_VAL;
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            const double angle = corner_angle(p[i], p[next3(i)], p[prev3(i)]);
+            if (angle < sharpest) {
+                sharpest = angle;
+                k = i;
+            }
+        }
+        const double before = smallest_angle(p[0], p[1], p[2]);
+        double best = before;
+        Vec2 best_at{};
+        TriangleId best_from = kNoTriangle;
+        for (const std::uint32_t i : {next3(k), prev3(k)}) {
+            const TriangleId u = T.n[i];
+            if (u == kNoTriangle || edge_bit(T.constrained, i)) continue;
+            const Triangle& U = m_.triangles[u];
+            const Vec2 start = (pts_[U.v[0]] + pts_[U.v[1]] + pts_[U.v[2]]) / 3.0;
+            if (!open_cavity(u, start) || std::find(cavity_.begin(), cavity_.end(), t) == cavity_.end()) continue;
+            const auto [at, angle] = best_in_fan(start, u);
+            if (angle > best) {
+                best = angle;
+                best_at = at;
+                best_from = u;
+            }
+        }
+        if (best_from == kNoTriangle) return false;
+        const Triangle& U = m_.triangles[best_from];
+        const detail::WalkEnd end = soup_->walk(best_from, (pts_[U.v[0]] + pts_[U.v[1]] + pts_[U.v[2]]) / 3.0, best_at, 10000);
+        if (end.triangle == kNoTriangle || end.edge >= 0) return false;
+        if (!insert_in(end.triangle, best_at)) return false;
+        --fallbacks_left_;
+        return true;
+    }
+
+    // The angle at a between b and c (radians).
+    static double corner_angle(Vec2 a, Vec2 b, Vec2 c) { return std::atan2(std::fabs(cross(b - a, c - a)), dot(b - a, c - a)); }
+
+    // The cavity a point at c opens from triangle u (into cavity_) and its outline (into
+    // outline_, each edge as its triangle had it, counter-clockwise); false past kCavityLimit
+    // triangles or where a constrained edge would lie inside it.
+    bool open_cavity(TriangleId u, Vec2 c) {
+        constexpr size_t kCavityLimit = 64;
+        cavity_.assign(1, u);
+        outline_.clear();
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> walls;  // constrained outline edges
+        for (size_t k = 0; k < cavity_.size(); ++k) {
+            if (cavity_.size() > kCavityLimit) return false;
+            const Triangle& T = m_.triangles[cavity_[k]];
+            for (std::uint32_t i = 0; i < 3; ++i) {
+                const TriangleId w = T.n[i];
+                if (w != kNoTriangle && std::find(cavity_.begin(), cavity_.end(), w) != cavity_.end()) continue;
+                if (w != kNoTriangle && !edge_bit(T.constrained, i)) {
+                    const Triangle& W = m_.triangles[w];
+                    if (incircle(pts_[W.v[0]], pts_[W.v[1]], pts_[W.v[2]], c) > 0) {
+                        cavity_.push_back(w);
+                        continue;
+                    }
+                }
+                if (edge_bit(T.constrained, i)) walls.push_back({T.v[next3(i)], T.v[prev3(i)]});
+                outline_.push_back({pts_[T.v[next3(i)]], pts_[T.v[prev3(i)]]});
+            }
+        }
+        // A constrained edge reached from both sides is inside: the fan would take it away.
+        for (const auto& [a, b] : walls)
+            if (std::find(walls.begin(), walls.end(), std::pair{b, a}) != walls.end()) return false;
+        // An edge put on the outline before the triangle beyond it joined the cavity is inside.
+        std::erase_if(outline_, [&](const std::array<Vec2, 2>& e) {
+            return std::any_of(outline_.begin(), outline_.end(), [&](const std::array<Vec2, 2>& f) { return f[0] == e[1] && f[1] == e[0]; });
+        });
+        return true;
+    }
+
+    // The smallest angle of the fan from c to outline_; -1 where a triangle of it is not
+    // counter-clockwise with positive area.
+    double fan_angle(Vec2 c) const {
+        double worst = std::numbers::pi;
+        for (const auto& e : outline_) {
+            if (!(cross(e[1] - e[0], c - e[0]) > 0.0)) return -1.0;
+            worst = std::min(worst, smallest_angle(e[0], e[1], c));
+        }
+        return worst;
+    }
+
+    // Pattern search (eight directions, halving steps) from `start` in triangle u for the
+    // point whose fan has the largest smallest angle.
+    std::pair<Vec2, double> best_in_fan(Vec2 start, TriangleId u) const {
+        const Triangle& U = m_.triangles[u];
+        double h = HUGE_VAL;
+        for (const auto v : U.v) h = std::min(h, 0.5 * distance(start, pts_[v]));
+        const double stop = 1e-3 * h;
+        Vec2 at = start;
+        double best = fan_angle(at);
+        constexpr double r = std::numbers::sqrt2 / 2;
+        static constexpr std::array<Vec2, 8> kDirections{{{1, 0}, {r, r}, {0, 1}, {-r, r}, {-1, 0}, {-r, -r}, {0, -1}, {r, -r}}};
+        for (int iter = 0; iter < 100 && h > stop; ++iter) {
+            Vec2 next = at;
+            for (const Vec2 d : kDirections) {
+                const Vec2 q = at + h * d;
+                const double f = fan_angle(q);
+                if (f > best) {
+                    best = f;
+                    next = q;
+                }
+            }
+            if (next == at) h *= 0.5;
+            at = next;
+        }
+        return {at, best};
     }
 
     static double smallest_angle(Vec2 a, Vec2 b, Vec2 c) {
@@ -271,6 +412,10 @@ private:
     std::unordered_map<std::uint64_t, size_t> edge_of_;
     std::vector<std::pair<TriangleId, std::uint32_t>> queue_;
     std::vector<TriangleId> cavity_;
+    std::vector<std::array<Vec2, 2>> outline_;
+    // Points beside a sharp corner (beside_corner) are few: each must beat what its cavity
+    // holds, and this bounds them besides.
+    size_t fallbacks_left_ = 0;
 };
 
 }  // namespace
