@@ -10,7 +10,9 @@
 // far below the local size, and the work stops at the point limit. A split boundary or
 // embedded edge gets its new point on its curve, at the mean of its ends' parameters: a
 // curved wall stays on the curve (the split is skipped when that point would invert a
-// triangle next to the edge).
+// triangle next to the edge). Where neither can be done (a boundary layer's outer edge, which
+// is never split, stands between the triangle and its centre), a point goes beside the sharp
+// corner instead (beside_corner).
 
 #include <algorithm>
 #include <cmath>
