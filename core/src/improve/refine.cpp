@@ -151,7 +151,7 @@ private:
     }
 
     // Point p into triangle cur, which holds it, and the Lawson flips after it; false when p
-    // is one of cur's corners.
+    // is one of cur's corners or lies on a constrained edge (which takes a point of its curve).
     bool insert_in(TriangleId cur, Vec2 p) {
         const Triangle& C = m_.triangles[cur];
         for (auto v : C.v)
@@ -159,6 +159,7 @@ private:
         int on_edge = -1;
         for (std::uint32_t i = 0; i < 3; ++i)
             if (orient2d(pts_[C.v[next3(i)]], pts_[C.v[prev3(i)]], p) == Orientation::Collinear) on_edge = static_cast<int>(i);
+        if (on_edge >= 0 && edge_bit(C.constrained, static_cast<std::uint32_t>(on_edge))) return false;
         const std::uint32_t v = add_point(p, PointKind::Interior, kNoCurve, 0.0);
         queue_.clear();
         if (on_edge < 0) soup_->split_triangle(cur, v, queue_);
