@@ -441,3 +441,39 @@ TEST(LayersOnASide, TheColumnsPointsStayWhereTheLayersPutThem) {
     }
     EXPECT_GE(on_left, 4u) << "A, D and a layer point from each wall";
 }
+
+// Found by a run of generated layered requests through fuzz/fuzz_request: an embedded line
+// leaves the wall's corner P0 at 9 degrees to the wall and ends 0.072 from it, inside the
+// first layer (0.114 thick). The line crosses no edge of the layers (it shares the cell's
+// corner), so the crossing test let the cell stand over the line's end, which was then in no
+// cell. A boundary point strictly inside a cell now takes the cell's top corners away.
+TEST(LayersOverAnEmbeddedLine, AreCutBackWhereTheLinesEndLiesInACell) {
+    DomainSpec s;
+    s.points = {{"P0", {0.5357, 0.3005}}, {"P1", {-0.7038, 0.1226}}, {"P2", {-0.7435, -0.6409}},
+                {"E", {0.08863171434957523, 0.061337465972738814}}};
+    s.curves = {line("e0", "P0", "P1"), line("e1", "P1", "P2", "wall"), line("e2", "P2", "P0", "wall"),
+                line("emb", "P0", "E")};
+    s.loops = {loop({"e0", "e1", "e2"})};
+    s.embedded = {"emb"};
+    for (const double min_angle : {0.0, 25.0}) {
+        MeshOptions o;
+        o.boundary_layers = {spec({"wall"}, 0.11393115320406842, 1.05, 1)};
+        o.min_angle_deg = min_angle;
+        const MeshResult r = generate_mesh(s, density_of("0.828676660909711"), o);
+        EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << min_angle;
+        EXPECT_GT(r.quality.boundary_layers[0].cut_back, 0u) << min_angle;
+        // E is a corner of triangles only: no quad holds it.
+        VertexId e = kNoVertex;
+        for (VertexId v = 0; v < r.mesh.point_count(); ++v)
+            if (r.mesh.x[v] == 0.08863171434957523 && r.mesh.y[v] == 0.061337465972738814) e = v;
+        ASSERT_NE(e, kNoVertex);
+        for (const auto& q : r.mesh.quads) {
+            bool inside = true;
+            for (int i = 0; i < 4; ++i) {
+                const Vec2 a = r.mesh.point(q[i]), b = r.mesh.point(q[(i + 1) % 4]);
+                inside = inside && cross(b - a, r.mesh.point(e) - a) > 0.0;
+            }
+            EXPECT_FALSE(inside) << "a quad over E";
+        }
+    }
+}

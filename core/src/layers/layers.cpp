@@ -883,6 +883,9 @@ private:
         std::uint32_t chain, column;
         int level;
     };
+    static int level_of(const std::vector<LayerPoint>& owner, std::uint32_t p) {
+        return p < owner.size() && owner[p].chain != UINT32_MAX ? owner[p].level : 0;
+    }
 
     // 3. One round: cells that are not strictly convex, or edges that cross, lose the layers
     // from there up. True when anything was cut.
@@ -1026,13 +1029,17 @@ private:
                     for (size_t l = 0; l + 1 < col.ids.size(); ++l) own[key(col.ids[l], col.ids[l + 1])] = strip;
             }
         }
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> near;  // (strip, boundary segment)
         detail::for_each_box_overlap(boxes, [&](std::uint32_t i, std::uint32_t j) {
             if (j < strips) {  // two strips
                 if (!adjacent(i, j)) suspect[i] = suspect[j] = 1;
             } else if (i < strips) {  // a strip and a boundary segment
                 const auto& e = soup.segments[j - strips];
                 const auto it = own.find(key(e[0], e[1]));
-                if (it == own.end() || !(it->second == i || adjacent(i, it->second))) suspect[i] = 1;
+                if (it == own.end() || !(it->second == i || adjacent(i, it->second))) {
+                    suspect[i] = 1;
+                    near.push_back({i, j - strips});
+                }
             }
         });
         // The boundary and the suspects' edges, tested for crossings.
@@ -1053,6 +1060,28 @@ private:
                 if (lb >= la) drop(e[1]);
             }
         });
+        // A boundary point strictly inside a cell crosses none of its edges: an embedded
+        // line that leaves a wall's corner at a shallow angle and ends within the first layer,
+        // or a small hole inside a thick one. The cell's top corners go (the cell with them).
+        std::sort(near.begin(), near.end());
+        near.erase(std::unique(near.begin(), near.end()), near.end());
+        for (const auto& [strip, seg] : near) {
+            const std::uint32_t ci = chain_of(strip);
+            walk_strip(chains_[ci], strip - first_strip[ci], [&](const Cell& c) {
+                for (const std::uint32_t p : tested.segments[seg]) {
+                    bool inside = true;
+                    for (int i = 0; i < c.corners && inside; ++i)
+                        inside = orient2d(tested.points[c.v[static_cast<size_t>(i)]],
+                                          tested.points[c.v[static_cast<size_t>((i + 1) % c.corners)]],
+                                          tested.points[p]) == Orientation::Left;
+                    if (!inside) continue;
+                    int top = 0;
+                    for (int i = 0; i < c.corners; ++i) top = std::max(top, level_of(owner, c.v[static_cast<size_t>(i)]));
+                    for (int i = 0; i < c.corners; ++i)
+                        if (level_of(owner, c.v[static_cast<size_t>(i)]) == top) drop(c.v[static_cast<size_t>(i)]);
+                }
+            });
+        }
         return cut;
     }
 
@@ -1226,21 +1255,28 @@ private:
         const size_t nc = c.columns.size();
         for (size_t k = 0; k < nc; ++k) {
             if (k + 1 == nc && !c.closed) break;
-            const auto& P = c.columns[k].ids;
-            const auto& Q = c.columns[(k + 1) % nc].ids;
-            const int spec = c.columns[k].spec;
-            const size_t na = P.size() - 1, nb = Q.size() - 1, common = std::min(na, nb);
-            const bool fan = P[0] == Q[0];
-            const auto s = static_cast<std::uint32_t>(k);
-            for (size_t l = 0; l < common; ++l) {
-                if (l == 0 && fan) visit(Cell{{P[0], Q[1], P[1], 0}, 3, {Q[1], P[1]}, spec, s});
-                else visit(Cell{{P[l], Q[l], Q[l + 1], P[l + 1]}, 4, {Q[l + 1], P[l + 1]}, spec, s});
-            }
-            for (size_t l = nb; l < na; ++l)
-                if (!(l == 0 && fan)) visit(Cell{{P[l], Q[nb], P[l + 1], 0}, 3, {Q[nb], P[l + 1]}, spec, s});
-            for (size_t l = na; l < nb; ++l)
-                if (!(l == 0 && fan)) visit(Cell{{P[na], Q[l], Q[l + 1], 0}, 3, {P[na], Q[l + 1]}, spec, s});
+            walk_strip(c, k, visit);
         }
+    }
+
+    // The cells of strip k alone (between columns k and k + 1, cyclic on a closed chain).
+    template <class F>
+    static void walk_strip(const Chain& c, size_t k, F&& visit) {
+        const size_t nc = c.columns.size();
+        const auto& P = c.columns[k].ids;
+        const auto& Q = c.columns[(k + 1) % nc].ids;
+        const int spec = c.columns[k].spec;
+        const size_t na = P.size() - 1, nb = Q.size() - 1, common = std::min(na, nb);
+        const bool fan = P[0] == Q[0];
+        const auto s = static_cast<std::uint32_t>(k);
+        for (size_t l = 0; l < common; ++l) {
+            if (l == 0 && fan) visit(Cell{{P[0], Q[1], P[1], 0}, 3, {Q[1], P[1]}, spec, s});
+            else visit(Cell{{P[l], Q[l], Q[l + 1], P[l + 1]}, 4, {Q[l + 1], P[l + 1]}, spec, s});
+        }
+        for (size_t l = nb; l < na; ++l)
+            if (!(l == 0 && fan)) visit(Cell{{P[l], Q[nb], P[l + 1], 0}, 3, {Q[nb], P[l + 1]}, spec, s});
+        for (size_t l = na; l < nb; ++l)
+            if (!(l == 0 && fan)) visit(Cell{{P[na], Q[l], Q[l + 1], 0}, 3, {P[na], Q[l + 1]}, spec, s});
     }
 
     void cells(GrownLayers& g) {

@@ -20,9 +20,11 @@
 //      each other at a slant keep no strip between their tops;
 //   2. the outer edge rises from one column's top to the next by at most half the way
 //      across (fewer layers spread smoothly, whatever the wall's spacing);
-//   3. until no cell is inverted and no edge of the layers crosses another edge of the
+//   3. until no cell is inverted, no edge of the layers crosses another edge of the
 //      layers or of the boundary (exact predicates, the size-class grids of
-//      kernel/crossings.hpp: linear in the number of edges per round).
+//      kernel/crossings.hpp: linear in the number of edges per round) and no point of the
+//      boundary lies inside a cell (an embedded line ending within a layer, crossing none
+//      of its edges).
 // The outer edge of the layers (the columns' tops, and the end columns of a wall that ends
 // on a curve without layers) replaces the wall in the discretisation: the isotropic
 // interior is meshed up to it as up to any boundary.
