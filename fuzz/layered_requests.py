@@ -20,8 +20,56 @@ import random
 import sys
 
 
+def airfoil(r):
+    """A NACA section (sometimes two, a slat's gap apart) in a far field from 1.3 to 20 chords,
+    layers on the wing or on everything."""
+    code = r.choice(["0012", "0006", "2412", "4415", "23012", "0030"])
+    te = r.choice(["closed", "open"])
+    points = {"F": [r.uniform(1.3, 20.0), 0.0]}
+    curves = {
+        "wing": {"type": "naca", "code": code, "trailing_edge": te, "angle_deg": round(r.uniform(-20, 20), 2),
+                 "leading_edge": [round(r.uniform(-0.3, 0.0), 3), 0.0], "tag": "wall"},
+        "farfield": {"type": "arc", "from": "F", "to": "F", "center": [0.3, 0.0],
+                     "tag": "wall" if r.random() < 0.2 else "farfield"},
+    }
+    points["F"][0] += 0.3
+    loops = [["farfield"], ["wing"]]
+    if r.random() < 0.3:
+        curves["slat"] = {"type": "naca", "code": "0012", "chord": round(r.uniform(0.1, 0.3), 3),
+                          "leading_edge": [round(r.uniform(-0.6, -0.35), 3), round(r.uniform(-0.08, 0.02), 3)],
+                          "angle_deg": round(r.uniform(-40, 0), 1), "tag": "wall"}
+        loops.append(["slat"])
+    geometry = {"points": points, "curves": curves, "loops": loops}
+    if r.random() < 0.3:
+        # A wake line from near the trailing edge.
+        points["W0"] = [1.02, 0.0]
+        points["W1"] = [round(r.uniform(1.1, 1.2), 3), round(r.uniform(-0.1, 0.1), 3)]
+        curves["wake"] = {"type": "line", "from": "W0", "to": "W1"}
+        geometry["embedded"] = ["wake"]
+    size = 10 ** r.uniform(-1.7, 0.0)
+    density = {"size": "%g + %g*sqrt(x^2+y^2)" % (size * r.uniform(0.05, 1.0), r.uniform(0.05, 0.5))}
+    return geometry, density
+
+
 def request(seed):
     r = random.Random(seed)
+    if r.random() < 0.25:
+        geometry, density = airfoil(r)
+        size = 0.05
+        entries = [{"curves": ["wall"], "first_height": 10 ** r.uniform(-5, -0.5)}]
+        if "slat" in geometry["curves"] and r.random() < 0.5:
+            entries = [{"curves": ["wing"], "first_height": 10 ** r.uniform(-5, -1)},
+                       {"curves": ["slat"], "first_height": 10 ** r.uniform(-5, -1)}]
+        for e in entries:
+            if r.random() < 0.7:
+                e["layers"] = r.choice([1, 5, 20, 60, 200])
+                e["growth"] = r.choice([1.0, 1.1, 1.2, 1.5, 3.0])
+            else:
+                e["thickness"] = 10 ** r.uniform(-3, 0)
+        options = {"max_points": 3000}
+        if r.random() < 0.2:
+            options["min_angle_deg"] = r.choice([20, 28, 30, 33])
+        return {"geometry": geometry, "density": density, "boundary_layers": entries, "options": options}
     m = r.choice([3, 4, 4, 5, 6])
     # A loop around the origin, star-shaped: its corners by angle.
     while True:
