@@ -226,27 +226,13 @@ private:
     // outline_, each edge as its triangle had it, counter-clockwise); false past kCavityLimit
     // triangles or where a constrained edge would lie inside it.
     bool open_cavity(TriangleId u, Vec2 c) {
-        constexpr size_t kCavityLimit = 64;
-        cavity_.assign(1, u);
         outline_.clear();
         std::vector<std::pair<std::uint32_t, std::uint32_t>> walls;  // constrained outline edges
-        for (size_t k = 0; k < cavity_.size(); ++k) {
-            if (cavity_.size() > kCavityLimit) return false;
-            const Triangle& T = m_.triangles[cavity_[k]];
-            for (std::uint32_t i = 0; i < 3; ++i) {
-                const TriangleId w = T.n[i];
-                if (w != kNoTriangle && std::find(cavity_.begin(), cavity_.end(), w) != cavity_.end()) continue;
-                if (w != kNoTriangle && !edge_bit(T.constrained, i)) {
-                    const Triangle& W = m_.triangles[w];
-                    if (incircle(pts_[W.v[0]], pts_[W.v[1]], pts_[W.v[2]], c) > 0) {
-                        cavity_.push_back(w);
-                        continue;
-                    }
-                }
-                if (edge_bit(T.constrained, i)) walls.push_back({T.v[next3(i)], T.v[prev3(i)]});
-                outline_.push_back({pts_[T.v[next3(i)]], pts_[T.v[prev3(i)]]});
-            }
-        }
+        const bool whole = grow_cavity(u, c, [&](const Triangle& T, std::uint32_t i) {
+            if (edge_bit(T.constrained, i)) walls.push_back({T.v[next3(i)], T.v[prev3(i)]});
+            outline_.push_back({pts_[T.v[next3(i)]], pts_[T.v[prev3(i)]]});
+        });
+        if (!whole) return false;
         // A constrained edge reached from both sides is inside: the fan would take it away.
         for (const auto& [a, b] : walls)
             if (std::find(walls.begin(), walls.end(), std::pair{b, a}) != walls.end()) return false;
@@ -310,10 +296,25 @@ private:
     // layers to the bound: their new triangles are often worse for a while.) A cavity past
     // kCavityLimit triangles is not followed further.
     double smallest_angle_after(TriangleId cur, Vec2 c) {
-        constexpr size_t kCavityLimit = 64;
-        cavity_.assign(1, cur);
         double worst = std::numbers::pi;
-        for (size_t k = 0; k < cavity_.size() && cavity_.size() < kCavityLimit; ++k) {
+        grow_cavity(cur, c, [&](const Triangle& T, std::uint32_t i) {
+            const std::uint32_t e0 = T.v[next3(i)], e1 = T.v[prev3(i)];
+            if (m_.kind[e0] == PointKind::Layer || m_.kind[e1] == PointKind::Layer)
+                worst = std::min(worst, smallest_angle(pts_[e0], pts_[e1], c));
+        });
+        return worst;
+    }
+
+    // The triangles whose circumcircles hold c, reached from `from` without crossing a
+    // constrained edge, into cavity_ (up to kCavityLimit of them); edge(T, i) for each edge
+    // of a cavity triangle that the cavity did not grow across (at the time: a triangle can
+    // join it later by another way). False when the limit stopped the growth.
+    template <class Edge>
+    bool grow_cavity(TriangleId from, Vec2 c, Edge&& edge) {
+        constexpr size_t kCavityLimit = 64;
+        cavity_.assign(1, from);
+        size_t k = 0;
+        for (; k < cavity_.size() && cavity_.size() < kCavityLimit; ++k) {
             const Triangle& T = m_.triangles[cavity_[k]];
             for (std::uint32_t i = 0; i < 3; ++i) {
                 const TriangleId u = T.n[i];
@@ -325,12 +326,10 @@ private:
                         continue;
                     }
                 }
-                const std::uint32_t e0 = T.v[next3(i)], e1 = T.v[prev3(i)];
-                if (m_.kind[e0] == PointKind::Layer || m_.kind[e1] == PointKind::Layer)
-                    worst = std::min(worst, smallest_angle(pts_[e0], pts_[e1], c));
+                edge(T, i);
             }
         }
-        return worst;
+        return k == cavity_.size();
     }
 
     bool split_segment(TriangleId t, std::uint32_t i) {
