@@ -85,6 +85,18 @@ void expect_thirty_degrees_without_layers(std::initializer_list<std::uint64_t> s
     }
 }
 
+// The seed's layered mesh with the defaults: valid, at 30 degrees or more away from corners
+// between two constrained edges, and with points of the refinement in it.
+MeshResult expect_refined_to_thirty(std::uint64_t seed) {
+    const LayeredCase lc = layered_case(seed);
+    MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
+    EXPECT_TRUE(check_mesh(r.mesh, false).empty()) << seed;
+    const auto [angle, where] = smallest_free_angle(r.mesh);
+    EXPECT_GE(angle, 30.0) << "seed " << seed << " at (" << where.x << ", " << where.y << ")";
+    EXPECT_GT(r.stats.refinement_points, 0u) << seed;
+    return r;
+}
+
 }  // namespace
 
 TEST(RandomDomains, EveryMeshIsValidOrTheRequestIsRefusedClearly) {
@@ -377,11 +389,7 @@ TEST(RandomDomains, AFixedPointsFanGivesUpATriangleItHasNoRoomFor) {
 // left at 30 or more (seed 148 with layers, once below 30 and mended otherwise) is not.
 TEST(RandomDomains, ATriangleTheRepairLeavesSharpIsRefinedToThirtyDegrees) {
     const LayeredCase lc = layered_case(146694);
-    const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
-    EXPECT_TRUE(check_mesh(r.mesh, false).empty());
-    const auto [angle, where] = smallest_free_angle(r.mesh);
-    EXPECT_GE(angle, 30.0) << "at (" << where.x << ", " << where.y << ")";
-    EXPECT_GT(r.stats.refinement_points, 0u);
+    const MeshResult r = expect_refined_to_thirty(146694);
     // The refinement asked of the request gives the same mesh: the defaults ask it of this one.
     MeshOptions asked = lc.options;
     asked.min_angle_deg = 30.0;
@@ -402,13 +410,7 @@ TEST(RandomDomains, ATriangleTheRepairLeavesSharpIsRefinedToThirtyDegrees) {
 // the triangle across one of the corner's edges, placed for the best smallest angle of the
 // triangles it makes, takes that edge and the sharp wedge away.
 TEST(RandomDomains, ACentreBeyondTheLayersGivesWayToAPointBesideTheSharpCorner) {
-    const LayeredCase lc = layered_case(145352);
-    const MeshResult r = generate_mesh(lc.domain, lc.rc.density, lc.options);
-    EXPECT_TRUE(check_mesh(r.mesh, false).empty());
-    const auto [angle, where] = smallest_free_angle(r.mesh);
-    EXPECT_GE(angle, 30.0) << "at (" << where.x << ", " << where.y << ")";
-    EXPECT_GT(r.stats.refinement_points, 0u);
-    EXPECT_GT(r.stats.layer_rounds, 0);
+    EXPECT_GT(expect_refined_to_thirty(145352).stats.layer_rounds, 0);
 }
 
 // A spoke's foot on a circle near the circle's start point: the corner cap at the foot asks
