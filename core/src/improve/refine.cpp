@@ -20,6 +20,7 @@
 #include <unordered_map>
 
 #include "improve/refine.hpp"
+#include "improve/pattern_search.hpp"
 
 #include "geometry/curve.hpp"
 #include "meshd/core/errors.hpp"
@@ -260,24 +261,8 @@ private:
         const Triangle& U = m_.triangles[u];
         double h = HUGE_VAL;
         for (const auto v : U.v) h = std::min(h, 0.5 * distance(start, pts_[v]));
-        const double stop = 1e-3 * h;
-        Vec2 at = start;
-        double best = fan_angle(at);
-        constexpr double r = std::numbers::sqrt2 / 2;
-        static constexpr std::array<Vec2, 8> kDirections{{{1, 0}, {r, r}, {0, 1}, {-r, r}, {-1, 0}, {-r, -r}, {0, -1}, {r, -r}}};
-        for (int iter = 0; iter < 100 && h > stop; ++iter) {
-            Vec2 next = at;
-            for (const Vec2 d : kDirections) {
-                const Vec2 q = at + h * d;
-                const double f = fan_angle(q);
-                if (f > best) {
-                    best = f;
-                    next = q;
-                }
-            }
-            if (next == at) h *= 0.5;
-            at = next;
-        }
+        double best = fan_angle(start);
+        const Vec2 at = detail::pattern_search(start, h, 1e-3 * h, 100, best, [&](Vec2 q, double) { return fan_angle(q); });
         return {at, best};
     }
 

@@ -21,6 +21,7 @@
 #include "triangulation/triangle_soup.hpp"
 #include "meshd/core/errors.hpp"
 #include "improve/smooth.hpp"
+#include "improve/pattern_search.hpp"
 #include "kernel/predicates.hpp"
 #include "improve/quality.hpp"
 #include "geometry/curve.hpp"
@@ -515,24 +516,11 @@ private:
             shortest = std::fmin(shortest, distance(old, pts_[T.v[next3(TriangleSoup::index_of(T, v))]]));
         }
         const double start = star_score();
-        double best = start, h = 0.25 * shortest;
-        constexpr double r = 0.5 * std::numbers::sqrt2;
-        static constexpr std::array<Vec2, 8> dirs{Vec2{1, 0},  Vec2{r, r},   Vec2{0, 1},  Vec2{-r, r},
-                                                  Vec2{-1, 0}, Vec2{-r, -r}, Vec2{0, -1}, Vec2{r, -r}};
-        Vec2 p = old;
-        for (int iter = 0; iter < 60 && h > 1e-4 * shortest; ++iter) {
-            Vec2 best_q = p;
-            for (const Vec2& d : dirs) {
-                pts_[v] = p + h * d;
-                const double f = star_score(best);
-                if (f > best) {
-                    best = f;
-                    best_q = pts_[v];
-                }
-            }
-            if (best_q == p) h *= 0.5;
-            p = best_q;
-        }
+        double best = start;
+        const Vec2 p = detail::pattern_search(old, 0.25 * shortest, 1e-4 * shortest, 60, best, [&](Vec2 q, double bound) {
+            pts_[v] = q;
+            return star_score(bound);
+        });
         pts_[v] = p;
         if (best > start) return true;
         pts_[v] = old;
