@@ -57,14 +57,26 @@ SegmentGrid::Cells SegmentGrid::cells(std::uint32_t segment, int k) const {
 
 namespace {
 
-// Calls visit(i, j) for every pair of segments whose boxes the grid finds in a common cell
-// (a superset of the pairs whose boxes overlap), each pair once, from the smaller segment.
+// Calls visit(i, j) for every pair of segments whose boxes (the boxes with the segments as
+// their diagonals; the grid's margin is 0) overlap or touch, each pair once, from the smaller
+// segment, j in increasing order for each i.
 template <class F>
 void for_each_candidate(const SegmentSoup& soup, const SegmentGrid& grid, F&& visit) {
+    auto box = [&](std::uint32_t i) {
+        Box b;
+        b.add(soup.points[soup.segments[i][0]]);
+        b.add(soup.points[soup.segments[i][1]]);
+        return b;
+    };
     std::vector<std::uint32_t> candidates;
+    // The segment whose candidates last took each segment: a segment met again in another
+    // cell is not taken twice (thin layers put dozens of levels in one cell of their longer
+    // edges, each met from up to four cells).
+    std::vector<std::uint32_t> taken_by(soup.segments.size(), UINT32_MAX);
     for (std::uint32_t i = 0; i < soup.segments.size(); ++i) {
         candidates.clear();
         const int own = grid.size_class(i);
+        const Box bi = box(i);
         for (int k = 1; k <= own; ++k) {  // classes of segments no smaller than this one
             if (!grid.class_used(k)) continue;
             const SegmentGrid::Cells r = grid.cells(i, k);
@@ -72,12 +84,15 @@ void for_each_candidate(const SegmentSoup& soup, const SegmentGrid& grid, F&& vi
                 for (auto y = r.y0; y <= r.y1; ++y)
                     grid.in_cell(k, x, y, [&](std::uint32_t j) {
                         if (j == i || (grid.size_class(j) == own && j < i)) return;  // same class: test once
-                        candidates.push_back(j);
+                        if (taken_by[j] == i) return;
+                        taken_by[j] = i;
+                        const Box bj = box(j);
+                        if (bi.lo.x <= bj.hi.x && bj.lo.x <= bi.hi.x && bi.lo.y <= bj.hi.y && bj.lo.y <= bi.hi.y)
+                            candidates.push_back(j);
                     });
         }
         if (candidates.empty()) continue;
-        std::sort(candidates.begin(), candidates.end());
-        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+        std::sort(candidates.begin(), candidates.end());  // the callers' order: by segment
         for (const std::uint32_t j : candidates) visit(i, j);
     }
 }
@@ -112,17 +127,7 @@ void for_each_box_overlap(const SegmentSoup& soup, const std::function<void(std:
     if (soup.segments.size() < 2) return;
     const SegmentGrid grid(soup, 0.0);
     if (grid.empty()) return;
-    auto box = [&](std::uint32_t i) {
-        Box b;
-        b.add(soup.points[soup.segments[i][0]]);
-        b.add(soup.points[soup.segments[i][1]]);
-        return b;
-    };
-    for_each_candidate(soup, grid, [&](std::uint32_t i, std::uint32_t j) {
-        const Box a = box(i), b = box(j);
-        if (a.lo.x <= b.hi.x && b.lo.x <= a.hi.x && a.lo.y <= b.hi.y && b.lo.y <= a.hi.y)
-            visit(std::min(i, j), std::max(i, j));
-    });
+    for_each_candidate(soup, grid, [&](std::uint32_t i, std::uint32_t j) { visit(std::min(i, j), std::max(i, j)); });
 }
 
 std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const SegmentSoup& soup) {
