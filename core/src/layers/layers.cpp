@@ -1053,8 +1053,7 @@ private:
         detail::for_each_crossing(tested, [&](std::uint32_t i, std::uint32_t j) {
             for (std::uint32_t s : {i, j}) {
                 const auto& e = tested.segments[s];
-                const int la = owner[e[0]].chain != UINT32_MAX ? owner[e[0]].level : 0;
-                const int lb = owner[e[1]].chain != UINT32_MAX ? owner[e[1]].level : 0;
+                const int la = level_of(owner, e[0]), lb = level_of(owner, e[1]);
                 if (la == 0 && lb == 0) continue;  // the boundary's own
                 if (la >= lb) drop(e[0]);
                 if (lb >= la) drop(e[1]);
