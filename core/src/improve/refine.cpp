@@ -176,12 +176,12 @@ private:
     // (reached without crossing a constrained edge: the cavity the insertion opens) are
     // replaced by the fan from the point to the cavity's outline, and the point moves (a
     // pattern search) to where the fan's smallest angle is largest. The best of the two goes
-    // in when the cavity holds t and the fan's smallest angle beats t's (and so every
-    // angle the cavity holds now): the flips after the insertion leave no worse there (of a
-    // quad's two diagonals they keep the one with the larger smallest angle). The smoothing's repair then places the
-    // point once more. Seed 145352 of the random domains with layers: a triangle of three
-    // fixed points in a narrow gap between two holes' layers, at 25.3 degrees, whose centre
-    // lay past the layers' outer edge.
+    // in when the cavity holds t and the fan's smallest angle beats t's (and so every angle
+    // the cavity holds now): the flips after the insertion leave no worse there (of a quad's
+    // two diagonals they keep the one with the larger smallest angle). The smoothing's repair
+    // then places the point once more. Seed 145352 of the random domains with layers: a
+    // triangle of three fixed points in a narrow gap between two holes' layers, at 25.3
+    // degrees, whose centre lay past the layers' outer edge.
     bool beside_corner(TriangleId t) {
         const Triangle& T = m_.triangles[t];
         const Vec2 p[3] = {pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]};
@@ -194,8 +194,7 @@ private:
                 k = i;
             }
         }
-        const double before = smallest_angle(p[0], p[1], p[2]);
-        double best = before;
+        double best = sharpest;  // what a point must beat
         Vec2 best_at{};
         TriangleId best_from = kNoTriangle;
         for (const std::uint32_t i : {next3(k), prev3(k)}) {
