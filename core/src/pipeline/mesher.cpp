@@ -522,9 +522,10 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     // rounds and the smoothing's repair left with a sharp triangle (sharp(): not at a corner
     // between two constrained edges) is refined to 30 degrees as min_angle_deg would, or to
     // the request's min_angle_deg where that is higher (a lower one does not take the defaults'
-    // 30 away). One mesh in 68,818 of the random domains' census with layers needed it (seed
-    // 146694, a triangle of the isotropic part at 29.6 degrees); every other mesh is left as it
-    // was.
+    // 30 away). Two meshes in 68,818 of the random domains' census with layers needed it (seed
+    // 146694, a triangle of the isotropic part at 29.6 degrees; seed 145352, 25.3 degrees in a
+    // gap between two holes' layers, mended by the refinement's point beside a sharp corner);
+    // every other mesh is left as it was.
     const bool last_resort = options.curve_agreement && options.smoothing_iterations > 0 &&
                              options.min_angle_deg < kSharpAngleDeg && any_sharp(m);
     const double min_angle = std::max(options.min_angle_deg, last_resort ? kSharpAngleDeg : 0.0);
