@@ -699,3 +699,29 @@ TEST(Gradation, ALeafsLastStepReadsNothingPastItsEnd) {
         }
     }
 }
+
+// density.min clamps the sizes the request gives, not those the geometry forces: a cap from a
+// curve point spaced finer than min (a blunt trailing edge's short base, a layer's fan) takes
+// the field below min around it, growing at the cap's ratio, down to the default floor (a
+// millionth of the extent) and no further. Away from the cap the given size stays clamped.
+TEST(SizeField, CapsFromTheGeometryGoBelowTheMinimum) {
+    const Domain d = build_domain(unit_square());  // extent sqrt 2
+    DensitySpec spec;
+    spec.size = 0.01;
+    spec.min = 0.05;
+    SizeField f(spec, d);
+    EXPECT_DOUBLE_EQ(f.interior({0.5, 0.5}), 0.05);
+    EXPECT_DOUBLE_EQ(f.min_size(), 0.05);
+    EXPECT_DOUBLE_EQ(f.least_size(), 1e-6 * std::sqrt(2.0));
+    // A cap of 0.001 at the middle, growing by 1.5: 0.001 + 0.5 r.
+    f.set_interior_cap({{0.5, 0.5}}, {0.001}, 1.5);
+    EXPECT_NEAR(f.interior({0.5, 0.5}), 0.001, 1e-12);
+    EXPECT_NEAR(f.interior({0.5, 0.52}), 0.011, 1e-12);
+    EXPECT_DOUBLE_EQ(f.interior({0.5, 0.9}), 0.05);  // 0.201 under the cap: the clamp holds
+    f.set_curve_cap({{0.0, 0.5}}, {0.002}, 1.5);
+    EXPECT_NEAR(f.on_curve(3, {0.0, 0.5}), 0.002, 1e-12);
+    EXPECT_DOUBLE_EQ(f.on_curve(3, {0.0, 0.1}), 0.05);
+    // A cap below the default floor stops there.
+    f.set_interior_cap({{0.5, 0.5}}, {1e-9}, 1.5);
+    EXPECT_DOUBLE_EQ(f.interior({0.5, 0.5}), f.least_size());
+}

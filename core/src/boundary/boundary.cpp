@@ -155,7 +155,7 @@ public:
                 const DensityProfile profile = sample_density(
                     len,
                     [&](double s) { return size_at(cuts[k], cuts[k + 1], param->param_at(sa + s)); },
-                    rho_.min_size(), stations_left_, station_floor());
+                    rho_.least_size(), stations_left_, station_floor());
                 stations_left_ -= profile.s.size();
                 reads.stations += profile.s.size();
                 std::vector<double> stations =

@@ -110,6 +110,7 @@ SizeField::SizeField(const DensitySpec& spec, const Domain& domain) {
     // (which scale with the size) astronomically wide.
     max_ = std::fmin(max_, extent);
     min_ = std::fmin(min_, max_);
+    cap_floor_ = std::fmin(min_, tol::kDefaultMinSize * extent);
     if (spec.gradation) {
         if (!(std::isfinite(*spec.gradation) && *spec.gradation > 1.0))
             throw GeometryError(K::DensityInvalid, "density.gradation must be a finite number above 1",
@@ -131,8 +132,8 @@ void SizeField::refuse(const Source& s, Vec2 p, double v) const {
 double SizeField::on_curve(CurveId c, Vec2 p) const {
     double h = eval(sources_[*curve_source_[c]], p);
     if (graded_) h = fmax_inline(graded_->capped(p, h), min_);
-    if (curve_cap_) h = fmax_inline(curve_cap_->capped(p, h), min_);
-    if (cap_) h = fmax_inline(cap_->capped(p, h), min_);
+    if (curve_cap_) h = fmax_inline(curve_cap_->capped(p, h), cap_floor_);
+    if (cap_) h = fmax_inline(cap_->capped(p, h), cap_floor_);
     return h;
 }
 
@@ -188,8 +189,8 @@ double SizeField::interior_scattered(Vec2 p) const {
 // and the caps.
 double SizeField::interior_from(Vec2 p, double h) const {
     if (graded_) h = fmax_inline(graded_->capped(p, h), min_);
-    if (interior_cap_) h = fmax_inline(interior_cap_->capped(p, h), min_);
-    if (cap_) h = fmax_inline(cap_->capped(p, h), min_);
+    if (interior_cap_) h = fmax_inline(interior_cap_->capped(p, h), cap_floor_);
+    if (cap_) h = fmax_inline(cap_->capped(p, h), cap_floor_);
     return h;
 }
 

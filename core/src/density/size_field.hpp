@@ -72,7 +72,12 @@ public:
     /// layers/layers.hpp), beside the two caps above.
     void set_cap(const SizeCaps& caps, double ratio);
 
+    /// density.min (or its default): the clamp of the given sizes.
     double min_size() const { return min_; }
+    /// The least size the field takes anywhere: the caps above come from the geometry (a
+    /// curve shorter than density.min, the layers' fans) and go below density.min where it
+    /// does; they stop at the default min (a millionth of the domain's extent).
+    double least_size() const { return cap_floor_; }
     double max_size() const { return max_; }
     std::optional<double> gradation() const { return gradation_; }
 
@@ -105,6 +110,7 @@ private:
     std::shared_ptr<const GradationField> interior_cap_;
     std::unique_ptr<GradationField> cap_;
     double min_ = 0.0, max_ = 0.0;
+    double cap_floor_ = 0.0;  // least_size()
     std::optional<double> gradation_;
 };
 

@@ -367,7 +367,7 @@ double agree_intervals(const Domain& domain, SizeField& rho, std::vector<Interva
         const GradationField cap(caps, sizes, kAgreementCapRatio, GradationField::Spread::Curves);
         boundary = 0.0;
         for (Interval& x : intervals) {
-            const double h = std::fmax(std::fmin(x.size, cap(x.at)), rho.min_size());
+            const double h = std::fmax(std::fmin(x.size, cap(x.at)), rho.least_size());
             x.count *= x.size / h;
             x.size = h;
             boundary += x.count;
