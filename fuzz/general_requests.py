@@ -14,11 +14,10 @@ check_mesh):
 
 Request k comes from seed FIRST_SEED + k alone, so a finding is written again by its seed.
 The layered twin of this generator is fuzz/layered_requests.py."""
-import json
 import math
-import os
 import random
-import sys
+
+from request_files import write_requests
 
 
 def r4(v):
@@ -314,14 +313,7 @@ def request(seed):
 
 
 def main():
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    out, n = sys.argv[1], int(sys.argv[2])
-    first = int(sys.argv[3]) if len(sys.argv) > 3 else 1
-    os.makedirs(out, exist_ok=True)
-    for seed in range(first, first + n):
-        with open(os.path.join(out, "general-%d.json" % seed), "w") as f:
-            json.dump(request(seed), f)
+    write_requests(__doc__, "general", request)
 
 
 if __name__ == "__main__":

@@ -13,11 +13,10 @@ Request k comes from seed FIRST_SEED + k alone, so a finding is written again by
 libFuzzer's own mutations seldom reach these: a CI run found the first such input (a layer
 top sliding past its column's first point, fuzz/regressions/request-7e6d2a1c) in a minute
 and longer campaigns had not; 3,000 of these found the next (request-d1abb269)."""
-import json
 import math
-import os
 import random
-import sys
+
+from request_files import write_requests
 
 
 def airfoil(r):
@@ -142,14 +141,7 @@ def request(seed):
 
 
 def main():
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    out, n = sys.argv[1], int(sys.argv[2])
-    first = int(sys.argv[3]) if len(sys.argv) > 3 else 1
-    os.makedirs(out, exist_ok=True)
-    for seed in range(first, first + n):
-        with open(os.path.join(out, "layered-%d.json" % seed), "w") as f:
-            json.dump(request(seed), f)
+    write_requests(__doc__, "layered", request)
 
 
 if __name__ == "__main__":
