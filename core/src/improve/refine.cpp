@@ -68,8 +68,8 @@ public:
         // the mesh as it was at kCentresUpTo, and points that leave their cavity better than
         // the triangle they mend, a few per triangle still below the bound.
         std::uint64_t inserted = refine(std::min(target_deg_, kCentresUpTo), Pass::Centres).inserted;
-        if (target_deg_ > kCentresUpTo) {
-            const Mesh mesh = m_;
+        if (target_deg_ > kCentresUpTo && any_bad(target_deg_)) {
+            const Mesh mesh = m_;  // (a copy only where there is work: on a large mesh, 50 bytes a point)
             const Array<Vec2> pts = pts_;
             const auto chains = chains_;
             const auto edge_of = edge_of_;
@@ -147,6 +147,14 @@ private:
         }
         out.finished = true;
         return out;
+    }
+
+    // Whether any triangle is bad at `bound_deg`.
+    bool any_bad(double bound_deg) {
+        cos_bound_ = std::cos(bound_deg * std::numbers::pi / 180.0);
+        for (TriangleId t = 0; t < m_.triangles.size(); ++t)
+            if (badness(t) >= -1.0) return true;
+        return false;
     }
 
     // The largest cosine of a corner of the mesh that is not between two constrained edges
