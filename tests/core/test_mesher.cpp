@@ -365,6 +365,47 @@ TEST(Mesher, ABoundAbove30DegreesDoesNotSetOffACascadeOfCentres) {
     }
 }
 
+// Without the smoothing (smoothing_iterations 0: the front's points stay where it put them)
+// the angle repair after the refinement moves the refinement's own points only. On half
+// domains over a NACA 0006 upper surface (requests of fuzz/general_requests.py) asked for 34
+// degrees, the refinement alone ended at 30.2, 31.2 and 31.7 degrees; with its points
+// repaired it reaches 34, and every point the front made is where it was, to the bit.
+// (On 370 such requests, 71% met 34 degrees instead of 57%.)
+TEST(Mesher, WithoutTheSmoothingTheRefinementsOwnPointsAreRepaired) {
+    const struct {
+        double far;
+        const char* size;
+    } cases[] = {{2.8543, "0.0844158 + 0.286186*sqrt((x-0.5)^2+y^2)"},
+                 {2.0217, "0.0302488 + 0.353696*sqrt((x-0.5)^2+y^2)"},
+                 {5.3977, "0.0484075 + 0.369888*sqrt((x-0.5)^2+y^2)"}};
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.size);
+        DomainSpec s;
+        s.points = {{"TE", {1.0, 0.0}}, {"LE", {0.0, 0.0}}, {"A", {0.5 - c.far, 0.0}}, {"B", {0.5 + c.far, 0.0}}};
+        NacaSpec upper;
+        upper.code = "0006";
+        upper.surface = AirfoilSurface::Upper;
+        s.curves.push_back({"upper", upper, std::string("TE"), std::string("LE"), std::string("wall")});
+        s.curves.push_back(line("front", "LE", "A", "symmetry"));
+        s.curves.push_back(arc("far", "B", "A", {0.5, 0.0}, ArcDirection::Ccw, "farfield"));
+        s.curves.push_back(line("back", "B", "TE", "symmetry"));
+        s.loops = {loop({"upper", "front", "-far", "back"})};
+        const Domain dom = build_domain(s);
+        MeshOptions o;
+        o.smoothing_iterations = 0;
+        const MeshResult plain = generate_mesh(dom, density_of(c.size), o);
+        o.min_angle_deg = 34.0;
+        const MeshResult r = generate_mesh(dom, density_of(c.size), o);
+        expect_valid(r.mesh, "34 degrees without the smoothing");
+        EXPECT_GE(smallest_free_angle(r.mesh).first, 34.0 - 1e-9);
+        ASSERT_GT(r.mesh.point_count(), plain.mesh.point_count());
+        for (VertexId v = 0; v < plain.mesh.point_count(); ++v) {
+            ASSERT_EQ(r.mesh.x[v], plain.mesh.x[v]) << v;
+            ASSERT_EQ(r.mesh.y[v], plain.mesh.y[v]) << v;
+        }
+    }
+}
+
 namespace {
 
 // The annulus's circles at 0.6 and 0.2, far coarser than the constant 0.04 inside.

@@ -148,6 +148,9 @@ public:
 
     std::uint64_t flips() const { return flips_; }
 
+    // The repair moves only points from `first` on (repair_angles' first_movable).
+    void movable_from(std::uint32_t first) { first_movable_ = first; }
+
     void write_back() {
         for (std::uint32_t v = 0; v < pts_.size(); ++v) {
             m_.x[v] = pts_[v].x;
@@ -190,6 +193,8 @@ private:
     // at each round and every kPollEvery corners or triangles within one, so a cancelled or
     // late job stops there.
     static constexpr std::uint32_t kPollEvery = 64;
+    bool movable(std::uint32_t v) const { return v >= first_movable_; }
+    std::uint32_t first_movable_ = 0;
     void poll(bool now = false) {
         if (observer_ == nullptr || (!now && ++polls_ % kPollEvery != 0)) return;
         if (observer_->should_stop()) throw Cancelled();
@@ -211,7 +216,7 @@ private:
             if (!bad(t)) continue;
             low.push_back(t);
             for (const auto v : m_.triangles[t].v)
-                if (m_.kind[v] == PointKind::Interior) corners.push_back(v);
+                if (m_.kind[v] == PointKind::Interior && movable(v)) corners.push_back(v);
         }
         // A corner that moved is recorded and its star made Delaunay again; the triangles it
         // changed (its star, the flips) join `low`, as they may have come below kSlideAngle.
@@ -242,7 +247,7 @@ private:
                 poll();
                 if (!bad(t, cot_limit)) continue;  // an earlier move or flip may have mended it
                 const auto& v = m_.triangles[t].v;
-                if (fixed_only && std::any_of(v.begin(), v.end(), [&](auto w) { return m_.kind[w] == PointKind::Interior; }))
+                if (fixed_only && std::any_of(v.begin(), v.end(), [&](auto w) { return m_.kind[w] == PointKind::Interior && movable(w); }))
                     continue;
                 if (!fixed_only && bad(t, kFloorCot)) continue;  // beyond what one flip mends
                 placed.clear();
@@ -258,7 +263,7 @@ private:
             for (const TriangleId t : low) {
                 if (!bad(t, kSlideCot)) continue;
                 for (const auto v : m_.triangles[t].v)
-                    if (m_.kind[v] == PointKind::Boundary || m_.kind[v] == PointKind::Embedded) corners.push_back(v);
+                    if ((m_.kind[v] == PointKind::Boundary || m_.kind[v] == PointKind::Embedded) && movable(v)) corners.push_back(v);
             }
             move_each([&](std::uint32_t v) { return slide(v); });
         }
@@ -377,7 +382,7 @@ private:
             std::array<std::uint32_t, 4> free{};
             size_t nfree = 0;
             for (const std::uint32_t v : {p, b, q, c})
-                if (m_.kind[v] == PointKind::Interior) free[nfree++] = v;
+                if (m_.kind[v] == PointKind::Interior && movable(v)) free[nfree++] = v;
             if (nfree == 0) return -1.0;
             std::array<Vec2, 4> old{};
             for (size_t k = 0; k < nfree; ++k) old[k] = pts_[free[k]];
@@ -586,9 +591,11 @@ std::uint64_t smooth(Mesh& m, int iterations, const Domain* domain, std::uint64_
     return moves;
 }
 
-std::uint64_t repair_angles(Mesh& m, const Domain* domain, std::uint64_t* flips, Observer* observer) {
+std::uint64_t repair_angles(Mesh& m, const Domain* domain, std::uint64_t* flips, Observer* observer,
+                            VertexId first_movable) {
     if (m.triangles.empty()) return 0;
     Smoother s(m, domain, observer);
+    s.movable_from(first_movable);
     const std::uint64_t moves = s.repair();
     s.write_back();
     if (flips) *flips += s.flips();

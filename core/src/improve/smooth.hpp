@@ -25,8 +25,9 @@ std::uint64_t smooth(Mesh& mesh, int iterations, const Domain* domain = nullptr,
                      Observer* observer = nullptr);
 
 /// The angle repair of smooth() alone, without sweeps: for a mesh that gained points after
-/// smoothing (min_angle_deg's refinement).
+/// smoothing (min_angle_deg's refinement). Only points from `first_movable` on move (the
+/// refinement's own, in a mesh whose other points were asked to stay where they are).
 std::uint64_t repair_angles(Mesh& mesh, const Domain* domain = nullptr, std::uint64_t* flips = nullptr,
-                            Observer* observer = nullptr);
+                            Observer* observer = nullptr, VertexId first_movable = 0);
 
 }  // namespace meshd::core

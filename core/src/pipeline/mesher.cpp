@@ -531,10 +531,13 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     const double min_angle = std::max(options.min_angle_deg, last_resort ? kSharpAngleDeg : 0.0);
     if (min_angle > 0.0) {
         t0 = Clock::now();
+        const auto before_refinement = static_cast<VertexId>(m.point_count());
         r.stats.refinement_points = refine_min_angle(m, domain, rho, min_angle, options.max_points, observer);
-        // The refinement's points were never smoothed: the angle repair once more for them.
-        if (r.stats.refinement_points > 0 && options.smoothing_iterations > 0)
-            r.stats.smoothing_moves += repair_angles(m, &domain, &r.stats.smoothing_flips, observer);
+        // The refinement's points were never smoothed: the angle repair once more for them
+        // (without the smoothing, for them alone: the others stay where the front put them).
+        if (r.stats.refinement_points > 0)
+            r.stats.smoothing_moves += repair_angles(m, &domain, &r.stats.smoothing_flips, observer,
+                                                     options.smoothing_iterations > 0 ? 0 : before_refinement);
         r.timings.smoothing_ms += ms_since(t0);
     }
 
