@@ -163,13 +163,21 @@ private:
         double worst = -1.0;
         for (const Triangle& T : m_.triangles) {
             const Vec2 p[3] = {pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]};
-            for (std::uint32_t i = 0; i < 3; ++i) {
-                if (edge_bit(T.constrained, next3(i)) && edge_bit(T.constrained, prev3(i))) continue;
-                const Vec2 u = p[next3(i)] - p[i], w = p[prev3(i)] - p[i];
-                worst = std::max(worst, dot(u, w) / std::sqrt(norm2(u) * norm2(w)));
-            }
+            for (std::uint32_t i = 0; i < 3; ++i)
+                if (!input_corner(T, i)) worst = std::max(worst, corner_cos(p, i));
         }
         return worst;
+    }
+
+    // The cosine of the angle at corner i of the triangle p.
+    static double corner_cos(const Vec2 p[3], std::uint32_t i) {
+        const Vec2 u = p[next3(i)] - p[i], w = p[prev3(i)] - p[i];
+        return dot(u, w) / std::sqrt(norm2(u) * norm2(w));
+    }
+
+    // Whether corner i of T lies between two constrained edges: an input angle.
+    static bool input_corner(const Triangle& T, std::uint32_t i) {
+        return edge_bit(T.constrained, next3(i)) && edge_bit(T.constrained, prev3(i));
     }
 
     // The cosine of t's smallest angle when t is bad, else -2: below the bound, but not at an
@@ -178,19 +186,15 @@ private:
         const Triangle& T = m_.triangles[t];
         const Vec2 p[3] = {pts_[T.v[0]], pts_[T.v[1]], pts_[T.v[2]]};
         double best_cos = -2.0;
-        int corner = -1;
-        for (int i = 0; i < 3; ++i) {
-            const Vec2 u = p[(i + 1) % 3] - p[i], w = p[(i + 2) % 3] - p[i];
-            const double c = dot(u, w) / std::sqrt(norm2(u) * norm2(w));
+        std::uint32_t corner = 0;
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            const double c = corner_cos(p, i);
             if (c > best_cos) {
                 best_cos = c;
                 corner = i;
             }
         }
-        if (best_cos <= cos_bound_) return -2.0;
-        // Both edges at the corner constrained: an input angle.
-        const auto k = static_cast<std::uint32_t>(corner);
-        if (edge_bit(T.constrained, next3(k)) && edge_bit(T.constrained, prev3(k))) return -2.0;
+        if (best_cos <= cos_bound_ || input_corner(T, corner)) return -2.0;
         const double shortest = std::min({distance(p[0], p[1]), distance(p[1], p[2]), distance(p[2], p[0])});
         const Vec2 g = (p[0] + p[1] + p[2]) / 3.0;
         return shortest > 0.1 * rho_.interior(g) ? best_cos : -2.0;
