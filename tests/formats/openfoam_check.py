@@ -12,36 +12,18 @@ import os
 import re
 import subprocess
 import sys
-import tarfile
 import tempfile
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import foam  # noqa: E402
 from common import check, finish, write_cut_to_hole  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
 
-SYSTEM = {
-    "controlDict": "application simpleFoam; startFrom startTime; startTime 0; stopAt endTime; endTime 1;\n"
-                   "deltaT 1; writeControl timeStep; writeInterval 1;\n",
-    "fvSchemes": "ddtSchemes { default steadyState; } gradSchemes { default Gauss linear; }\n"
-                 "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
-                 "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n",
-    "fvSolution": "",
-}
-
-
 def case_of(archive, where):
-    with tarfile.open(archive) as t:
-        names = sorted(m.name for m in t.getmembers() if m.isfile())
-        check(names == ["constant/polyMesh/" + n for n in ("boundary", "faces", "neighbour", "owner", "points")],
-              f"{archive}: the five polyMesh files")
-        t.extractall(where)
-    os.makedirs(os.path.join(where, "system"), exist_ok=True)
-    for name, body in SYSTEM.items():
-        with open(os.path.join(where, "system", name), "w") as f:
-            f.write("FoamFile { version 2.0; format ascii; class dictionary; object %s; }\n%s" % (name, body))
+    check(foam.case_of(archive, where) == foam.POLYMESH, f"{archive}: the five polyMesh files")
 
 
 def patches(case):
@@ -83,8 +65,7 @@ with tempfile.TemporaryDirectory() as tmp:
         subprocess.run([cli, request, "-o", again, "--format", "foam", "--quiet"], check=True)
         check(open(archive, "rb").read() == open(again, "rb").read(), f"{name}: the same archive twice")
         case_of(archive, case)
-        run = subprocess.run(["bash", "-c", "source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; checkMesh -case '" + case + "'"],
-                             capture_output=True, text=True)
+        run = foam.run_tool("checkMesh", case)
         out = run.stdout + run.stderr
         if "boundary_layers" in json.load(open(request)):
             # Cells a thousandth as tall as wide are what layers at y+ 1 are: checkMesh counts
@@ -155,8 +136,7 @@ with tempfile.TemporaryDirectory() as tmp:
         kind = {"0/U": "volVectorField", "0/p": "volScalarField"}.get(path, "dictionary")
         with open(os.path.join(case, path), "w") as f:
             f.write("FoamFile { version 2.0; format ascii; class %s; object %s; }\n%s" % (kind, os.path.basename(path), body))
-    run = subprocess.run(["bash", "-c", "source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; potentialFoam -writep -case '" + case + "'"],
-                         capture_output=True, text=True)
+    run = foam.run_tool("potentialFoam -writep", case)
     out = run.stdout + run.stderr
     cont = re.search(r"Continuity error = (\S+)", out)
     check(run.returncode == 0 and "\nEnd" in out and cont is not None and float(cont.group(1)) < 1e-6,

@@ -24,12 +24,12 @@ import os
 import re
 import subprocess
 import sys
-import tarfile
 import tempfile
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import foam  # noqa: E402
 from common import check, finish  # noqa: E402
 
 cli, fuzz_dir = sys.argv[1], sys.argv[2]
@@ -38,14 +38,6 @@ sys.path.insert(0, fuzz_dir)
 import layered_requests  # noqa: E402
 
 REFUSALS = {"/v1/problems/curves-cross", "/v1/problems/too-many-points"}
-SYSTEM = {
-    "controlDict": "application simpleFoam; startFrom startTime; startTime 0; stopAt endTime; endTime 1;\n"
-                   "deltaT 1; writeControl timeStep; writeInterval 1;\n",
-    "fvSchemes": "ddtSchemes { default steadyState; } gradSchemes { default Gauss linear; }\n"
-                 "divSchemes { default none; } laplacianSchemes { default Gauss linear corrected; }\n"
-                 "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n",
-    "fvSolution": "",
-}
 SKEW_LIMIT = 4.0        # checkMesh's
 ACUTE_DEG = 64.0        # 2.5 cot(theta / 2) = 4 at 64 degrees
 NEAR_CORNER = 0.05      # the requests' domains are about 2 across
@@ -112,15 +104,6 @@ def domain_angles(mesh):
     return total
 
 
-def case_of(archive, where):
-    with tarfile.open(archive) as t:
-        t.extractall(where)
-    os.makedirs(os.path.join(where, "system"), exist_ok=True)
-    for name, body in SYSTEM.items():
-        with open(os.path.join(where, "system", name), "w") as f:
-            f.write("FoamFile { version 2.0; format ascii; class dictionary; object %s; }\n%s" % (name, body))
-
-
 def run(job):
     """Meshes one request as JSON and as a foam case and runs checkMesh; returns what the checks need."""
     name, request, tmp = job
@@ -132,10 +115,9 @@ def run(job):
     if got.returncode != 0:
         return name, request, None, got.returncode, got.stderr, ""
     subprocess.run([cli, path, "-o", archive, "--format", "foam", "--quiet"], check=True)
-    case_of(archive, case)
-    foam = subprocess.run(["bash", "-c", "source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; checkMesh -case '" + case + "'"],
-                          capture_output=True, text=True)
-    return name, request, json.load(open(answer))["mesh"], foam.returncode, got.stderr, foam.stdout + foam.stderr
+    foam.case_of(archive, case)
+    checked = foam.run_tool("checkMesh", case)
+    return name, request, json.load(open(answer))["mesh"], checked.returncode, got.stderr, checked.stdout + checked.stderr
 
 
 checked = skewed = 0
