@@ -7,9 +7,11 @@ Fig. 10 (open curves meeting at corners), Fig. 11 (two holes) and a plate whose 
 ends on a hole's circle (the circle split there). Then each file extruded one layer by gmsh,
 as a user makes an OpenFOAM slab of it: a prism per triangle and the side patches (not the
 plate with the cut: gmsh 4.8 aborts extruding a surface with an embedded curve, its own files
-included).
+included). The same on the first N requests of each generator in fuzz/ (default 40; three-node
+lines at second order), extruded where first order, of triangles alone and without cuts.
 
-usage: msh_topology.py MESHD_CLI EXAMPLES_DIR"""
+usage: msh_topology.py MESHD_CLI EXAMPLES_DIR [FUZZ_DIR [N]]"""
+import json
 import os
 import subprocess
 import sys
@@ -52,10 +54,14 @@ def topology(path, name):
         ends[t] = (begin, end)
         tags, _, _ = gmsh.model.mesh.getNodes(1, t, includeBoundary=False)
         on_curves.update(int(x) for x in tags)
-        # Its line elements: one chain from its begin point to its end point through its nodes.
+        # Its line elements: one chain from its begin point to its end point through its nodes
+        # (at second order, three-node lines: their ends chain, and their middles are the
+        # curve's other nodes).
         types, elems, nodes = gmsh.model.mesh.getElements(1, t)
-        check(list(types) == [1], f"{name}: curve {t} holds line elements")
-        pairs = [(int(nodes[0][2 * i]), int(nodes[0][2 * i + 1])) for i in range(len(elems[0]))]
+        check(list(types) in ([1], [8]), f"{name}: curve {t} holds line elements")
+        per = 3 if list(types) == [8] else 2
+        pairs = [(int(nodes[0][per * i]), int(nodes[0][per * i + 1])) for i in range(len(elems[0]))]
+        middles = {int(nodes[0][per * i + 2]) for i in range(len(elems[0]))} if per == 3 else set()
         adj = {}
         for a, b in pairs:
             adj.setdefault(a, []).append(b)
@@ -67,7 +73,7 @@ def topology(path, name):
                 break
             prev, cur = cur, nxt[0]
             path.append(cur)
-        check(len(path) == len(pairs) + 1 and path[-1] == end and set(path[1:-1]) == set(int(x) for x in tags),
+        check(len(path) == len(pairs) + 1 and path[-1] == end and set(path[1:-1]) | middles == set(int(x) for x in tags),
               f"{name}: curve {t}'s elements chain from its begin to its end point")
     # The surface: its bounding curves, oriented, close into loops.
     bound = [t for _, t in gmsh.model.getBoundary([(2, 1)], oriented=True, combined=False)]
@@ -132,6 +138,8 @@ def extrusion(path, name):
 
 def main():
     cli, examples = sys.argv[1], sys.argv[2]
+    fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
+    generated = int(sys.argv[4]) if len(sys.argv) > 4 else 40
     with tempfile.TemporaryDirectory() as tmp:
         cases = [("naca0012", os.path.join(examples, "naca0012.json"), 2),
                  ("fig10", os.path.join(examples, "fig10.json"), 1),
@@ -143,7 +151,29 @@ def main():
             check(topology(path, name) == loops, f"{name}: {loops} loops bound the surface")
             if name != "cut-to-hole":  # gmsh 4.8 aborts extruding any surface with an embedded
                 extrusion(path, name)      # curve (its own files too): nothing to learn there
-    finish("msh topology: all checks passed")
+        # The first requests of each generator in fuzz/ (curves of every kind, holes, cuts,
+        # T junctions, second order, layers): as many loops as the request; extruded where
+        # the mesh is first order, of triangles alone and without an embedded curve.
+        sys.path.insert(0, fuzz_dir)
+        import general_requests
+        import layered_requests
+        meshed = extruded = 0
+        for kind, make in (("general", general_requests.request), ("layered", layered_requests.request)):
+            for seed in range(1, generated + 1):
+                name, request = f"{kind}-{seed}", make(seed)
+                req_path, path = os.path.join(tmp, name + ".json"), os.path.join(tmp, name + ".msh")
+                with open(req_path, "w") as f:
+                    json.dump(request, f)
+                if subprocess.run([cli, req_path, "-o", path, "--quiet"], capture_output=True).returncode != 0:
+                    continue  # a domain the generator drew badly (generated_requests.py holds those)
+                loops = len(request["geometry"]["loops"])
+                check(topology(path, name) == loops, f"{name}: {loops} loops bound the surface")
+                meshed += 1
+                if (request.get("options", {}).get("order", 1) == 1 and "boundary_layers" not in request
+                        and not request["geometry"].get("embedded")):
+                    extrusion(path, name)
+                    extruded += 1
+    finish(f"msh topology: all checks passed ({meshed} generated meshes, {extruded} of them extruded)")
 
 
 if __name__ == "__main__":
