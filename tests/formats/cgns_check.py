@@ -5,9 +5,10 @@ points and triangles, one boundary patch per loop tag with that tag's edges, the
 coordinates as the JSON mesh), and h5py on the raw HDF5 tree (the node types and the values
 CGNS prescribes: the base's dimensions, the element types, BC_t FamilySpecified with its
 FamilyName, the family's FamilyBC typed from patch_types, GridLocation EdgeCenter, element
-ranges that tile 1..n).
+ranges that tile 1..n). The examples, then the first N requests of each generator in fuzz/
+(default 40).
 
-usage: cgns_check.py MESHD_CLI EXAMPLES_DIR"""
+usage: cgns_check.py MESHD_CLI EXAMPLES_DIR [FUZZ_DIR [N]]"""
 import json
 import os
 import subprocess
@@ -22,6 +23,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import CUT_TO_HOLE, check, finish  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
+fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
+generated = int(sys.argv[4]) if len(sys.argv) > 4 else 40
 
 TRI_3, BAR_2, TRI_6, BAR_3, QUAD_4 = 5, 3, 6, 4, 7  # CGNS ElementType_t values
 VTK_TRIANGLE, VTK_LINE, VTK_QUADRATIC_TRIANGLE, VTK_QUADRATIC_EDGE, VTK_QUAD = 5, 3, 22, 21, 9
@@ -169,4 +172,24 @@ with tempfile.TemporaryDirectory() as where:
         middles = [e[2] for e in ring_mesh["boundaries"][tag]]
         check(np.allclose(np.hypot(pts[middles, 0], pts[middles, 1]), radius, atol=1e-12), f"edge nodes of {tag} on its circle")
 
-finish("CGNS read back by cgnscheck, VTK and h5py")
+# The first requests of each generator in fuzz/: holes of every kind, cuts and T junctions
+# (embedded tags), untagged curves, second order and layers.
+sys.path.insert(0, fuzz_dir)
+import general_requests  # noqa: E402
+import layered_requests  # noqa: E402
+read = 0
+with tempfile.TemporaryDirectory() as where:
+    for kind, make in (("general", general_requests.request), ("layered", layered_requests.request)):
+        for seed in range(1, generated + 1):
+            name, request = f"{kind}-{seed}", make(seed)
+            probe = os.path.join(where, name + ".probe.json")
+            with open(probe, "w") as f:
+                json.dump(request, f)
+            if subprocess.run([cli, probe, "-q", "-o", probe + ".out.json"], capture_output=True).returncode != 0:
+                continue  # a domain the generator drew badly (generated_requests.py holds those)
+            curves = request["geometry"]["curves"]
+            embedded = {curves[c].get("tag", c) for c in request["geometry"].get("embedded", [])}
+            check_case(request, where, name, embedded, {})
+            read += 1
+
+finish(f"CGNS read back by cgnscheck, VTK and h5py (the examples and {read} generated meshes)")
