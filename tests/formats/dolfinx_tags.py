@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """The MSH files of meshd-cli loaded by dolfinx (gmshio.model_to_mesh, as a FEniCS user loads
 a gmsh model): the mesh has the points and triangles of meshd's JSON answer, and its facet
-tags put every boundary and embedded edge under its own tag, edge for edge.
+tags put every boundary and embedded edge under its own tag, edge for edge. The examples, then
+the first-order ones among the first N requests of fuzz/general_requests.py (default 40).
 
-usage: dolfinx_tags.py MESHD_CLI EXAMPLES_DIR"""
+usage: dolfinx_tags.py MESHD_CLI EXAMPLES_DIR [FUZZ_DIR [N]]"""
 import json
 import os
 import subprocess
@@ -16,6 +17,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import check, dolfinx_mesh, finish, write_cut_to_hole  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
+fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
+generated = int(sys.argv[4]) if len(sys.argv) > 4 else 40
+
+
 def edge_key(p, q):
     a, b = tuple(np.round(p[:2], 12)), tuple(np.round(q[:2], 12))
     return (a, b) if a <= b else (b, a)
@@ -54,5 +59,24 @@ with tempfile.TemporaryDirectory() as tmp:
         subprocess.run([cli, request, "-o", msh, "--quiet"], check=True)
         subprocess.run([cli, request, "-o", answer, "--quiet"], check=True)
         compare(msh, answer, name)
+    # The first requests of fuzz/general_requests.py that are first order (dolfinx's mesh of a
+    # second-order file has fewer vertices than points, and it takes no quads): holes of every
+    # kind, cuts, T junctions and untagged curves, each edge under its tag.
+    sys.path.insert(0, fuzz_dir)
+    import general_requests
+    read = 0
+    for seed in range(1, generated + 1):
+        name, request = f"general-{seed}", general_requests.request(seed)
+        if request.get("options", {}).get("order", 1) != 1:
+            continue
+        path = os.path.join(tmp, name + ".request.json")
+        with open(path, "w") as f:
+            json.dump(request, f)
+        msh, answer = os.path.join(tmp, name + ".msh"), os.path.join(tmp, name + ".json")
+        if subprocess.run([cli, path, "-o", answer, "--quiet"], capture_output=True).returncode != 0:
+            continue  # a domain the generator drew badly (generated_requests.py holds those)
+        subprocess.run([cli, path, "-o", msh, "--quiet"], check=True)
+        compare(msh, answer, name)
+        read += 1
 
-finish("dolfinx facet tags: all checks passed")
+finish(f"dolfinx facet tags: all checks passed (the examples and {read} generated meshes)")
