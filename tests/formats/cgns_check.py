@@ -20,11 +20,11 @@ import numpy as np
 import vtk
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import CUT_TO_HOLE, check, finish  # noqa: E402
+from common import CUT_TO_HOLE, check, finish, generated  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
 fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
-generated = int(sys.argv[4]) if len(sys.argv) > 4 else 40
+count = int(sys.argv[4]) if len(sys.argv) > 4 else 40
 
 TRI_3, BAR_2, TRI_6, BAR_3, QUAD_4 = 5, 3, 6, 4, 7  # CGNS ElementType_t values
 VTK_TRIANGLE, VTK_LINE, VTK_QUADRATIC_TRIANGLE, VTK_QUADRATIC_EDGE, VTK_QUAD = 5, 3, 22, 21, 9
@@ -174,22 +174,17 @@ with tempfile.TemporaryDirectory() as where:
 
 # The first requests of each generator in fuzz/: holes of every kind, cuts and T junctions
 # (embedded tags), untagged curves, second order and layers.
-sys.path.insert(0, fuzz_dir)
-import general_requests  # noqa: E402
-import layered_requests  # noqa: E402
 read = 0
 with tempfile.TemporaryDirectory() as where:
-    for kind, make in (("general", general_requests.request), ("layered", layered_requests.request)):
-        for seed in range(1, generated + 1):
-            name, request = f"{kind}-{seed}", make(seed)
-            probe = os.path.join(where, name + ".probe.json")
-            with open(probe, "w") as f:
-                json.dump(request, f)
-            if subprocess.run([cli, probe, "-q", "-o", probe + ".out.json"], capture_output=True).returncode != 0:
-                continue  # a domain the generator drew badly (generated_requests.py holds those)
-            curves = request["geometry"]["curves"]
-            embedded = {curves[c].get("tag", c) for c in request["geometry"].get("embedded", [])}
-            check_case(request, where, name, embedded, {})
-            read += 1
+    for name, request in generated(fuzz_dir, count):
+        probe = os.path.join(where, name + ".probe.json")
+        with open(probe, "w") as f:
+            json.dump(request, f)
+        if subprocess.run([cli, probe, "-q", "-o", probe + ".out.json"], capture_output=True).returncode != 0:
+            continue  # a domain the generator drew badly (generated_requests.py holds those)
+        curves = request["geometry"]["curves"]
+        embedded = {curves[c].get("tag", c) for c in request["geometry"].get("embedded", [])}
+        check_case(request, where, name, embedded, {})
+        read += 1
 
 finish(f"CGNS read back by cgnscheck, VTK and h5py (the examples and {read} generated meshes)")

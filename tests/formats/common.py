@@ -60,3 +60,15 @@ def write_cut_to_hole(directory):
     with open(path, "w") as f:
         json.dump(CUT_TO_HOLE, f)
     return path
+
+
+def generated(fuzz_dir, count, kinds=("general", "layered")):
+    """(name, request) for seeds 1 to `count` of each request generator of fuzz/ named in
+    `kinds` (fuzz/general_requests.py, fuzz/layered_requests.py), named like "general-7"."""
+    sys.path.insert(0, fuzz_dir)
+    import general_requests
+    import layered_requests
+    makers = {"general": general_requests.request, "layered": layered_requests.request}
+    for kind in kinds:
+        for seed in range(1, count + 1):
+            yield f"{kind}-{seed}", makers[kind](seed)

@@ -14,11 +14,11 @@ import tempfile
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import check, dolfinx_mesh, finish, write_cut_to_hole  # noqa: E402
+from common import check, dolfinx_mesh, finish, generated, write_cut_to_hole  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
 fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
-generated = int(sys.argv[4]) if len(sys.argv) > 4 else 40
+count = int(sys.argv[4]) if len(sys.argv) > 4 else 40
 
 
 def edge_key(p, q):
@@ -62,11 +62,8 @@ with tempfile.TemporaryDirectory() as tmp:
     # The first requests of fuzz/general_requests.py that are first order (dolfinx's mesh of a
     # second-order file has fewer vertices than points, and it takes no quads): holes of every
     # kind, cuts, T junctions and untagged curves, each edge under its tag.
-    sys.path.insert(0, fuzz_dir)
-    import general_requests
     read = 0
-    for seed in range(1, generated + 1):
-        name, request = f"general-{seed}", general_requests.request(seed)
+    for name, request in generated(fuzz_dir, count, ("general",)):
         if request.get("options", {}).get("order", 1) != 1:
             continue
         path = os.path.join(tmp, name + ".request.json")

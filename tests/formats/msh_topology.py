@@ -20,7 +20,7 @@ import tempfile
 import gmsh
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import check, finish, write_cut_to_hole  # noqa: E402
+from common import check, finish, generated, write_cut_to_hole  # noqa: E402
 
 
 def topology(path, name):
@@ -139,7 +139,7 @@ def extrusion(path, name):
 def main():
     cli, examples = sys.argv[1], sys.argv[2]
     fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
-    generated = int(sys.argv[4]) if len(sys.argv) > 4 else 40
+    count = int(sys.argv[4]) if len(sys.argv) > 4 else 40
     with tempfile.TemporaryDirectory() as tmp:
         cases = [("naca0012", os.path.join(examples, "naca0012.json"), 2),
                  ("fig10", os.path.join(examples, "fig10.json"), 1),
@@ -154,25 +154,20 @@ def main():
         # The first requests of each generator in fuzz/ (curves of every kind, holes, cuts,
         # T junctions, second order, layers): as many loops as the request; extruded where
         # the mesh is first order, of triangles alone and without an embedded curve.
-        sys.path.insert(0, fuzz_dir)
-        import general_requests
-        import layered_requests
         meshed = extruded = 0
-        for kind, make in (("general", general_requests.request), ("layered", layered_requests.request)):
-            for seed in range(1, generated + 1):
-                name, request = f"{kind}-{seed}", make(seed)
-                req_path, path = os.path.join(tmp, name + ".json"), os.path.join(tmp, name + ".msh")
-                with open(req_path, "w") as f:
-                    json.dump(request, f)
-                if subprocess.run([cli, req_path, "-o", path, "--quiet"], capture_output=True).returncode != 0:
-                    continue  # a domain the generator drew badly (generated_requests.py holds those)
-                loops = len(request["geometry"]["loops"])
-                check(topology(path, name) == loops, f"{name}: {loops} loops bound the surface")
-                meshed += 1
-                if (request.get("options", {}).get("order", 1) == 1 and "boundary_layers" not in request
-                        and not request["geometry"].get("embedded")):
-                    extrusion(path, name)
-                    extruded += 1
+        for name, request in generated(fuzz_dir, count):
+            req_path, path = os.path.join(tmp, name + ".json"), os.path.join(tmp, name + ".msh")
+            with open(req_path, "w") as f:
+                json.dump(request, f)
+            if subprocess.run([cli, req_path, "-o", path, "--quiet"], capture_output=True).returncode != 0:
+                continue  # a domain the generator drew badly (generated_requests.py holds those)
+            loops = len(request["geometry"]["loops"])
+            check(topology(path, name) == loops, f"{name}: {loops} loops bound the surface")
+            meshed += 1
+            if (request.get("options", {}).get("order", 1) == 1 and "boundary_layers" not in request
+                    and not request["geometry"].get("embedded")):
+                extrusion(path, name)
+                extruded += 1
     finish(f"msh topology: all checks passed ({meshed} generated meshes, {extruded} of them extruded)")
 
 

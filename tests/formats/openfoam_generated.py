@@ -32,13 +32,10 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import foam  # noqa: E402
-from common import check, finish  # noqa: E402
+from common import check, finish, generated  # noqa: E402
 
 cli, fuzz_dir = sys.argv[1], sys.argv[2]
 count = int(sys.argv[3]) if len(sys.argv) > 3 else 150
-sys.path.insert(0, fuzz_dir)
-import general_requests  # noqa: E402
-import layered_requests  # noqa: E402
 
 REFUSALS = {"/v1/problems/curves-cross", "/v1/problems/too-many-points"}
 SKEW_LIMIT = 4.0        # checkMesh's
@@ -125,12 +122,10 @@ def run(job):
 
 checked = skewed = 0
 with tempfile.TemporaryDirectory() as tmp:
-    def first_order(request):
-        request.get("options", {}).pop("order", None)
-        return request
-
-    jobs = [(f"general-{s}", first_order(general_requests.request(s)), tmp) for s in range(1, count + 1)]
-    jobs += [(f"layered-{s}", layered_requests.request(s), tmp) for s in range(1, count + 1)]
+    jobs = []
+    for name, request in generated(fuzz_dir, count):
+        request.get("options", {}).pop("order", None)  # foam holds first-order cells
+        jobs.append((name, request, tmp))
     with concurrent.futures.ThreadPoolExecutor(2) as pool:
         for name, request, mesh, code, stderr, out in pool.map(run, jobs):
             if mesh is None:

@@ -19,11 +19,11 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import check, finish  # noqa: E402
+from common import check, finish, generated  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
 fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
-generated = int(sys.argv[4]) if len(sys.argv) > 4 else 40
+count = int(sys.argv[4]) if len(sys.argv) > 4 else 40
 
 
 def read_back(request, tmp, label):
@@ -121,15 +121,11 @@ with tempfile.TemporaryDirectory() as tmp:
 # The same on the first requests of each generator in fuzz/ (holes of every kind, embedded cuts
 # and T junctions, untagged curves, second order, layers): the readers on meshes unlike the
 # examples.
-sys.path.insert(0, fuzz_dir)
-import general_requests  # noqa: E402
-import layered_requests  # noqa: E402
-for name, make in (("general", general_requests.request), ("layered", layered_requests.request)):
-    for seed in range(1, generated + 1):
-        with tempfile.TemporaryDirectory() as tmp:
-            path = os.path.join(tmp, "request.json")
-            json.dump(make(seed), open(path, "w"))
-            read_back(path, tmp, f"{name}-{seed}")
+for name, request in generated(fuzz_dir, count):
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "request.json")
+        json.dump(request, open(path, "w"))
+        read_back(path, tmp, name)
 
 # Boundary layers: the quads in every format, beside the triangles, as each reader sees them.
 with tempfile.TemporaryDirectory() as tmp:
