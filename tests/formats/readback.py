@@ -87,6 +87,13 @@ def read_back(request, tmp, label):
         check(np.array_equal(scells.get("triangle"), tris), f"{label}: su2/meshio: triangles")
         marker_names = [l.split("=", 1)[1].strip() for l in open(out["su2"]) if l.startswith("MARKER_TAG=")]
         check(marker_names == tags, f"{label}: su2: one marker per tag, named by the tag")
+        # meshio numbers the markers 1, 2, ... in the file's order: each holds its tag's edges.
+        lines = [(c.data, t) for c, t in zip(s.cells, s.cell_data.get("su2:tag", [])) if c.type == "line"]
+        edges = np.concatenate([d for d, _ in lines]) if lines else np.zeros((0, 2), dtype=int)
+        marker = np.concatenate([np.asarray(t) for _, t in lines]) if lines else np.zeros(0, dtype=int)
+        for k, tag in enumerate(tags):
+            got = {tuple(sorted(e)) for e in edges[marker == k + 1].tolist()}
+            check(got == {tuple(sorted(e)) for e in ref["boundaries"][tag]}, f"{label}: su2/meshio: marker {tag} holds its edges")
 
     # meshio: MSH
     h = meshio.read(out["msh"])
