@@ -58,6 +58,13 @@ def read_back(request, tmp, label):
     check(np.array_equal(cells.get(tri), tris), f"{label}: vtk/meshio: triangles")
     check(len(quads) == 0 or np.array_equal(cells.get("quad"), quads), f"{label}: vtk/meshio: quads")
     check(len(cells.get(line, [])) == nedges, f"{label}: vtk/meshio: line cells")
+    # The line cells' tags (the `tag` cell data, the tag's index): each tag's edges, edge for edge.
+    line_tags = [np.asarray(t).ravel() for c, t in zip(m.cells, m.cell_data.get("tag", [])) if c.type == line]
+    if line_tags and line in cells:
+        marker = np.concatenate(line_tags)
+        for k, tag in enumerate(tags):
+            got = {tuple(sorted(e)) for e in cells[line][marker == k].tolist()}
+            check(got == {tuple(sorted(e)) for e in ref["boundaries"][tag]}, f"{label}: vtk/meshio: the lines tagged {tag} are its edges")
     check("quality" in m.cell_data and "tag" in m.cell_data, f"{label}: vtk/meshio: cell data arrays")
     check("target_size" in m.point_data, f"{label}: vtk/meshio: point data")
     q = np.concatenate([np.asarray(a) for a in m.cell_data["quality"]])
