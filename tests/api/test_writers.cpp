@@ -86,6 +86,115 @@ TEST(Writers, JsonIsTheContractShape) {
         EXPECT_TRUE(mt["timings_ms"].contains(k)) << k;
 }
 
+// The metrics object member by member, against the figures it was written from: counts as
+// JSON integers, figures as JSON reals even where whole (a typed client reads "60.0" as a
+// double), a figure that is not a number as null, every optional member where it applies.
+TEST(Writers, MetricsJsonHoldsEveryFigureWithItsType) {
+    core::MeshResult r;
+    auto& q = r.quality;
+    q.points = 12;
+    q.boundary_points = 5;
+    q.interior_points = 7;
+    q.triangles = 9;
+    q.quads = 3;
+    q.angle_min = 31.25;
+    q.angle_max = 100.0;  // whole: still a real
+    q.angle_mean = 60.0;
+    q.quality_min = 0.1 + 0.2;  // 0.30000000000000004: the shortest text that reads back
+    q.quality_mean = 1e-7;
+    for (size_t i = 0; i < q.quality_histogram.size(); ++i) q.quality_histogram[i] = 10 * i + 1;
+    q.size_ratio_mean = std::nan("");
+    q.size_ratio_within_sqrt2 = 1.0;
+    q.curved_edges = 4;
+    q.straightened_edges = 2;
+    q.scaled_jacobian_min = 0.75;
+    core::QualityMetrics::Layers l;
+    l.layers_min = 2;
+    l.layers_max = 20;
+    l.first_height_min = 1e-5;
+    l.first_height_max = 2.5e-5;
+    l.aspect_ratio_max = 1234.5;
+    l.scaled_jacobian_min = 0.5;
+    l.skew_max = 0.125;
+    l.columns = 40;
+    l.cut_back = 6;
+    l.cut_back_at = {{1.5, -2.0}, {3e20, 4.0}};
+    q.boundary_layers = {l, core::QualityMetrics::Layers{}};
+    r.mesh.edge_nodes.push_back({0, 1});  // second order: "curved" is written
+    r.timings = {0.5, 1.0, 2.0, 3.0, 7.25};
+    r.stats.orient_exact = 384;
+    r.stats.incircle_exact = 0;
+    r.stats.gradation_applied = 0.2;
+
+    const auto j = nlohmann::json::parse(api::metrics_json(r));
+    auto integer = [](const nlohmann::json& v, std::int64_t want) {
+        EXPECT_TRUE(v.is_number_integer()) << v;
+        EXPECT_EQ(v.get<std::int64_t>(), want);
+    };
+    auto real = [](const nlohmann::json& v, double want) {
+        EXPECT_TRUE(v.is_number_float()) << v;
+        EXPECT_EQ(v.get<double>(), want);
+    };
+    integer(j["points"], 12);
+    integer(j["boundary_points"], 5);
+    integer(j["interior_points"], 7);
+    integer(j["triangles"], 9);
+    integer(j["quads"], 3);
+    real(j["angle_deg"]["min"], 31.25);
+    real(j["angle_deg"]["max"], 100.0);
+    real(j["angle_deg"]["mean"], 60.0);
+    real(j["quality"]["min"], 0.1 + 0.2);
+    real(j["quality"]["mean"], 1e-7);
+    ASSERT_EQ(j["quality"]["histogram"].size(), 10u);
+    for (size_t i = 0; i < 10; ++i) integer(j["quality"]["histogram"][i], static_cast<std::int64_t>(10 * i + 1));
+    EXPECT_TRUE(j["size_ratio"]["mean"].is_null());
+    real(j["size_ratio"]["within_sqrt2"], 1.0);
+    integer(j["curved"]["edges"], 4);
+    integer(j["curved"]["straightened"], 2);
+    real(j["curved"]["scaled_jacobian_min"], 0.75);
+    ASSERT_EQ(j["boundary_layers"].size(), 2u);
+    const auto& b = j["boundary_layers"][0];
+    integer(b["columns"], 40);
+    integer(b["layers"]["min"], 2);
+    integer(b["layers"]["max"], 20);
+    real(b["first_height"]["min"], 1e-5);
+    real(b["first_height"]["max"], 2.5e-5);
+    real(b["aspect_ratio_max"], 1234.5);
+    real(b["scaled_jacobian_min"], 0.5);
+    real(b["skew_max"], 0.125);
+    integer(b["cut_back"]["columns"], 6);
+    ASSERT_EQ(b["cut_back"]["at"].size(), 2u);
+    real(b["cut_back"]["at"][0][0], 1.5);
+    real(b["cut_back"]["at"][0][1], -2.0);
+    real(b["cut_back"]["at"][1][0], 3e20);
+    real(b["cut_back"]["at"][1][1], 4.0);
+    EXPECT_TRUE(j["boundary_layers"][1]["cut_back"]["at"].is_array());
+    EXPECT_TRUE(j["boundary_layers"][1]["cut_back"]["at"].empty());
+    real(j["timings_ms"]["boundary"], 0.5);
+    real(j["timings_ms"]["interior"], 1.0);
+    real(j["timings_ms"]["triangulation"], 2.0);
+    real(j["timings_ms"]["smoothing"], 3.0);
+    real(j["timings_ms"]["total"], 7.25);
+    integer(j["predicates_exact"]["orient"], 384);
+    integer(j["predicates_exact"]["incircle"], 0);
+    real(j["gradation_applied"], 0.2);
+    // The members in the contract's order.
+    std::vector<std::string> keys;
+    const auto ordered = nlohmann::ordered_json::parse(api::metrics_json(r));
+    for (const auto& [k, v] : ordered.items()) keys.push_back(k);
+    EXPECT_EQ(keys, (std::vector<std::string>{"points", "boundary_points", "interior_points", "triangles", "quads",
+                                              "angle_deg", "quality", "size_ratio", "curved", "boundary_layers",
+                                              "timings_ms", "predicates_exact", "gradation_applied"}));
+
+    // Without the optional parts: no quads, no curved edges, no layers, no gradation.
+    core::MeshResult plain;
+    plain.quality.points = 3;
+    const auto p = nlohmann::json::parse(api::metrics_json(plain));
+    for (const char* k : {"quads", "curved", "boundary_layers", "gradation_applied"}) EXPECT_FALSE(p.contains(k)) << k;
+    integer(p["points"], 3);
+    real(p["angle_deg"]["min"], 0.0);
+}
+
 TEST(Writers, VtkIsBinaryBigEndianUnstructuredGrid) {
     const auto& m = sample().mesh;
     const std::string s = written(api::Format::Vtk);
