@@ -20,11 +20,10 @@ import numpy as np
 import vtk
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import CUT_TO_HOLE, check, finish, generated  # noqa: E402
+from common import CUT_TO_HOLE, check, finish, generated, generated_arguments  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
-fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
-count = int(sys.argv[4]) if len(sys.argv) > 4 else 40
+fuzz_dir, count = generated_arguments(examples)
 
 TRI_3, BAR_2, TRI_6, BAR_3, QUAD_4 = 5, 3, 6, 4, 7  # CGNS ElementType_t values
 VTK_TRIANGLE, VTK_LINE, VTK_QUADRATIC_TRIANGLE, VTK_QUADRATIC_EDGE, VTK_QUAD = 5, 3, 22, 21, 9

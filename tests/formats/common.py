@@ -62,6 +62,14 @@ def write_cut_to_hole(directory):
     return path
 
 
+def generated_arguments(examples, default_count=40):
+    """The request generators' directory and how many seeds of each, from the optional third
+    and fourth command-line arguments (fuzz/ beside `examples` and `default_count` without)."""
+    fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
+    count = int(sys.argv[4]) if len(sys.argv) > 4 else default_count
+    return fuzz_dir, count
+
+
 def generated(fuzz_dir, count, kinds=("general", "layered")):
     """(name, request) for seeds 1 to `count` of each request generator of fuzz/ named in
     `kinds` (fuzz/general_requests.py, fuzz/layered_requests.py), named like "general-7"."""

@@ -14,11 +14,10 @@ import tempfile
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import check, dolfinx_mesh, finish, generated, write_cut_to_hole  # noqa: E402
+from common import check, dolfinx_mesh, finish, generated, generated_arguments, write_cut_to_hole  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
-fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
-count = int(sys.argv[4]) if len(sys.argv) > 4 else 40
+fuzz_dir, count = generated_arguments(examples)
 
 
 def edge_key(p, q):

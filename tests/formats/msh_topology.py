@@ -20,7 +20,7 @@ import tempfile
 import gmsh
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import check, finish, generated, write_cut_to_hole  # noqa: E402
+from common import check, finish, generated, generated_arguments, write_cut_to_hole  # noqa: E402
 
 
 def topology(path, name):
@@ -138,8 +138,7 @@ def extrusion(path, name):
 
 def main():
     cli, examples = sys.argv[1], sys.argv[2]
-    fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
-    count = int(sys.argv[4]) if len(sys.argv) > 4 else 40
+    fuzz_dir, count = generated_arguments(examples)
     with tempfile.TemporaryDirectory() as tmp:
         cases = [("naca0012", os.path.join(examples, "naca0012.json"), 2),
                  ("fig10", os.path.join(examples, "fig10.json"), 1),

@@ -19,11 +19,10 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import check, finish, generated  # noqa: E402
+from common import check, finish, generated, generated_arguments  # noqa: E402
 
 cli, examples = sys.argv[1], sys.argv[2]
-fuzz_dir = sys.argv[3] if len(sys.argv) > 3 else os.path.join(examples, "..", "fuzz")
-count = int(sys.argv[4]) if len(sys.argv) > 4 else 40
+fuzz_dir, count = generated_arguments(examples)
 
 
 def read_back(request, tmp, label):
