@@ -114,10 +114,21 @@ public:
                     if (m_.kind[t.v[i]] == PointKind::Interior)
                         opposite_[fill[t.v[i]]++] = {t.v[next3(i)], t.v[prev3(i)]};
         }
-        Array<char> active, next;
-        detail::assign_huge(active, nv, char{0});
-        detail::assign_huge(next, nv, char{0});
-        for (size_t v = 0; v < nv; ++v) active[v] = m_.kind[v] == PointKind::Interior;
+        // A sweep after the first tries the points that moved in the sweep before or have a
+        // neighbour that did. Each move records only itself, and a point that did not move
+        // looks at its neighbours until one did, rather than each move marking all of its own
+        // (the load run's square: 6,398 moves of 10,415 tries over five sweeps; 6% fewer
+        // instructions in the sweeps). A point that is not interior has no pairs: it is never
+        // tried.
+        Array<char> moved_before, moved_now;
+        detail::assign_huge(moved_before, nv, char{0});
+        detail::assign_huge(moved_now, nv, char{0});
+        auto to_try = [&](std::uint32_t v) {
+            if (moved_before[v]) return true;
+            for (auto e = offset_[v]; e < offset_[v + 1]; ++e)
+                if (moved_before[opposite_[e][0]]) return true;
+            return false;
+        };
         std::uint64_t moves = 0;
         for (int it = 0; it < iterations; ++it) {
             if (observer_) {
@@ -126,16 +137,14 @@ public:
             }
             std::uint64_t moved = 0;
             for (std::uint32_t v = 0; v < nv; ++v) {
-                if (!active[v] || !laplace(v)) continue;
+                if ((it > 0 && !to_try(v)) || !laplace(v)) continue;
                 ++moved;
-                next[v] = 1;
-                // Every neighbour: one that is not interior has no pairs, and laplace() leaves it.
-                for (auto e = offset_[v]; e < offset_[v + 1]; ++e) next[opposite_[e][0]] = 1;
+                moved_now[v] = 1;
             }
             moves += moved;
             if (moved == 0) break;
-            active.swap(next);
-            std::fill(next.begin(), next.end(), 0);
+            moved_before.swap(moved_now);
+            std::fill(moved_now.begin(), moved_now.end(), 0);
         }
         // The tables go before the flips and the repair, which do not use them (a third of
         // the smoothing's memory; the pipeline's peak was in the repair).
