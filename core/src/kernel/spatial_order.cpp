@@ -60,17 +60,18 @@ private:
     std::array<std::uint16_t, 1024> entry_{};
 };
 
-// Sorts (key << 32 | index) on the key's low `bits` bits (stable LSD radix passes; the
-// index bits are in order already) and returns the indices.
+// Sorts (key << 32 | index) on the key's low `bits` bits (stable LSD radix passes of a byte
+// each: the Hilbert order's 24 bits in three, the BRIO's 28 in four; the index bits are in
+// order already) and returns the indices.
 Array<std::uint32_t> sort_keys(Array<std::uint64_t>& keys, int bits) {
     Array<std::uint64_t> tmp;
     assign_huge(tmp, keys.size(), std::uint64_t{0});
-    std::array<size_t, 129> count{};
-    for (int shift = 32; shift < 32 + bits; shift += 7) {
+    std::array<size_t, 257> count{};
+    for (int shift = 32; shift < 32 + bits; shift += 8) {
         count.fill(0);
-        for (const std::uint64_t k : keys) ++count[((k >> shift) & 127u) + 1];
-        for (size_t b = 0; b < 128; ++b) count[b + 1] += count[b];
-        for (const std::uint64_t k : keys) tmp[count[(k >> shift) & 127u]++] = k;
+        for (const std::uint64_t k : keys) ++count[((k >> shift) & 255u) + 1];
+        for (size_t b = 0; b < 256; ++b) count[b + 1] += count[b];
+        for (const std::uint64_t k : keys) tmp[count[(k >> shift) & 255u]++] = k;
         keys.swap(tmp);
     }
     Array<std::uint32_t> order;
