@@ -17,6 +17,7 @@ namespace {
 
 using meshd::api::writers::floor_log10_pow2;
 using meshd::api::writers::kShortestMax;
+using meshd::api::writers::put_unsigned;
 using meshd::api::writers::shortest;
 
 std::string ours(double v) {
@@ -117,3 +118,24 @@ TEST(Shortest, PowersOfTwoAndExactTies) {
 }
 
 }  // namespace
+
+// put_unsigned writes what std::to_chars writes: at every change of length, around it, and
+// at random over the whole range.
+TEST(Shortest, IndicesAreTheLibrarys) {
+    auto check = [](std::uint32_t v) {
+        char ours_buf[16], lib_buf[16];
+        const std::string a(ours_buf, put_unsigned(ours_buf, v));
+        const std::string b(lib_buf, std::to_chars(lib_buf, lib_buf + sizeof lib_buf, v).ptr);
+        EXPECT_EQ(a, b) << v;
+    };
+    std::uint64_t p = 1;
+    for (int k = 0; k <= 10; ++k, p *= 10)
+        for (std::int64_t d = -2; d <= 2; ++d) {
+            const std::int64_t v = static_cast<std::int64_t>(p) + d;
+            if (v >= 0 && v <= static_cast<std::int64_t>(UINT32_MAX)) check(static_cast<std::uint32_t>(v));
+        }
+    check(UINT32_MAX);
+    for (std::uint32_t v = 0; v < 20000; ++v) check(v);
+    std::mt19937 rng(7);
+    for (int i = 0; i < 200000; ++i) check(static_cast<std::uint32_t>(rng()) >> (rng() % 32));
+}

@@ -71,7 +71,10 @@ public:
         requires std::is_integral_v<I>
     TextOut& operator<<(I v) {
         room(24);
-        n_ = static_cast<size_t>(std::to_chars(buf_ + n_, buf_ + sizeof buf_, v).ptr - buf_);
+        if constexpr (std::is_same_v<I, std::uint32_t>)  // a mesh's indices
+            n_ = static_cast<size_t>(put_unsigned(buf_ + n_, v) - buf_);
+        else
+            n_ = static_cast<size_t>(std::to_chars(buf_ + n_, buf_ + sizeof buf_, v).ptr - buf_);
         return *this;
     }
     /// Room for k characters at the cursor returned; done(p) keeps what was written up to p.

@@ -192,7 +192,7 @@ void write_json(const MeshResult& r, std::ostream& stream, bool sizes) {
         *at++ = '[';
         for (int i = 0; i < 3; ++i) {
             if (i) *at++ = ',';
-            at = std::to_chars(at, at + 10, T.v[static_cast<size_t>(i)]).ptr;
+            at = put_unsigned(at, T.v[static_cast<size_t>(i)]);
         }
         os.done(at);
         if (quadratic) {

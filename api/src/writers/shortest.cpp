@@ -43,14 +43,6 @@ constexpr std::array<std::uint64_t, 20> kPow10 = [] {
     return p;
 }();
 
-constexpr std::array<char, 200> kPairs = [] {
-    std::array<char, 200> t{};
-    for (int i = 0; i < 100; ++i) {
-        t[static_cast<size_t>(2 * i)] = static_cast<char>('0' + i / 10);
-        t[static_cast<size_t>(2 * i + 1)] = static_cast<char>('0' + i % 10);
-    }
-    return t;
-}();
 
 int digit_count(std::uint64_t d) {
     // floor(log10 2^b) for the bit width b, then one comparison (d >= 1 here).
@@ -61,10 +53,10 @@ int digit_count(std::uint64_t d) {
 // The 8 digits of x < 10^8 (leading zeros included) at p: four independent pairs.
 [[gnu::always_inline]] inline void put8(char* p, std::uint32_t x) {
     const std::uint32_t high = x / 10000, low = x % 10000;
-    std::memcpy(p, kPairs.data() + 2 * (high / 100), 2);
-    std::memcpy(p + 2, kPairs.data() + 2 * (high % 100), 2);
-    std::memcpy(p + 4, kPairs.data() + 2 * (low / 100), 2);
-    std::memcpy(p + 6, kPairs.data() + 2 * (low % 100), 2);
+    std::memcpy(p, kDigitPairs.data() + 2 * (high / 100), 2);
+    std::memcpy(p + 2, kDigitPairs.data() + 2 * (high % 100), 2);
+    std::memcpy(p + 4, kDigitPairs.data() + 2 * (low / 100), 2);
+    std::memcpy(p + 6, kDigitPairs.data() + 2 * (low % 100), 2);
 }
 
 // The 24 digits of d (leading zeros included) ending at end: three blocks of eight, not a
@@ -123,9 +115,9 @@ char* put_decimal(char* out, std::uint64_t d, int n, int e10) {
     const int ax = x < 0 ? -x : x;
     if (ax >= 100) {
         *p++ = static_cast<char>('0' + ax / 100);
-        std::memcpy(p, kPairs.data() + 2 * (ax % 100), 2);
+        std::memcpy(p, kDigitPairs.data() + 2 * (ax % 100), 2);
     } else {
-        std::memcpy(p, kPairs.data() + 2 * ax, 2);
+        std::memcpy(p, kDigitPairs.data() + 2 * ax, 2);
     }
     return p + 2;
 }
