@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# Instructions the pipeline runs on a request (a benchmark, not a test): callgrind's count
-# inside generate_mesh, which does not drift with the machine's speed as times do, so that
-# a change to the code's constant factors can be judged in one run on a noisy VM.
+# Instructions a request costs (a benchmark, not a test): callgrind's counts for the CLI
+# meshing it and writing the JSON answer, as the server's sync route does, which do not drift
+# with the machine's speed as times do, so that a change to the code's constant factors can
+# be judged in one run on a noisy VM. Prints the pipeline (generate_mesh), the JSON answer
+# (write_json), reading the request (parse_request) and the whole (main; the CLI's own start
+# and the first use of static tables included).
 # Usage: scripts/icount.sh [request.json ...]   (default: the load run's square)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,8 +14,13 @@ scripts/build.sh release >/dev/null
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 for request in "$@"; do
-  valgrind --tool=callgrind --callgrind-out-file="$out/cg" \
-    --toggle-collect='meshd::core::generate_mesh(meshd::core::Domain const&*' \
-    build/cli/meshd-cli "$request" -o "$out/mesh.msh" --format msh --quiet >/dev/null 2>&1
-  printf '%s: %s instructions\n' "$request" "$(callgrind_annotate "$out/cg" | awk '/PROGRAM TOTALS/ {print $1; exit}')"
+  valgrind --tool=callgrind --callgrind-out-file="$out/cg" --toggle-collect='main' \
+    build/cli/meshd-cli "$request" -o "$out/mesh.json" --format json --quiet >/dev/null 2>&1
+  callgrind_annotate --inclusive=yes --threshold=100 "$out/cg" | awk -v r="$request" '
+    function count(s) { gsub(",", "", s); return s + 0 }
+    /PROGRAM TOTALS/ { total = count($1) }
+    /meshd::core::generate_mesh\(meshd::core::Domain const&/ && !mesh { mesh = count($1) }
+    /meshd::api::write_json\(/ && !json { json = count($1) }
+    /meshd::api::parse_request\(/ && !parse { parse = count($1) }
+    END { printf "%s: generate_mesh %d, write_json %d, parse_request %d, main %d instructions\n", r, mesh, json, parse, total }'
 done
