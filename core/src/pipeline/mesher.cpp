@@ -532,7 +532,15 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     std::optional<QualityMetrics> measured;
     bool last_resort = false;
     if (options.curve_agreement && options.smoothing_iterations > 0 && options.min_angle_deg < kSharpAngleDeg) {
-        if (!layers && options.order == 1) measured = measure_quality(m, rho);
+        // (A density that fails at some edge's middle is left to the figures at the end: the
+        // refinement may split that edge.)
+        if (!layers && options.order == 1) {
+            try {
+                measured = measure_quality(m, rho);
+            } catch (const GeometryError&) {
+                measured.reset();
+            }
+        }
         // (The margin is far above the rounding of the smallest angle's arc tangent.)
         last_resort = !(measured && measured->angle_min >= kSharpAngleDeg + 1e-9) && any_sharp(m);
     }
