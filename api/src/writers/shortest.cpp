@@ -43,7 +43,6 @@ constexpr std::array<std::uint64_t, 20> kPow10 = [] {
     return p;
 }();
 
-
 int digit_count(std::uint64_t d) {
     // floor(log10 2^b) for the bit width b, then one comparison (d >= 1 here).
     const int t = (static_cast<int>(std::bit_width(d)) * 1233) >> 12;
