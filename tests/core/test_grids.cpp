@@ -374,6 +374,90 @@ TEST(SegmentGrid, BoxOverlapsAndCrossingsAreTheSameAsTestingEveryPair) {
     EXPECT_EQ(crossings, want_crossings);  // random chains do not fold back on themselves
 }
 
+// Whether the convex hulls of two small point sets meet, exactly: a pair of one set's points
+// and a pair of the other's cross or touch, or a point of one lies in (or on) a triangle of
+// the other's points (the hull is the union of those triangles; a set of one or two points
+// is its segment or point).
+static bool hulls_meet(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+    auto in_hull = [](Vec2 p, const std::vector<Vec2>& s) {
+        for (size_t i = 0; i < s.size(); ++i)
+            for (size_t j = i; j < s.size(); ++j)
+                for (size_t k = j; k < s.size(); ++k) {
+                    const Orientation o1 = orient2d(s[i], s[j], p), o2 = orient2d(s[j], s[k], p),
+                                      o3 = orient2d(s[k], s[i], p);
+                    const bool no_right = o1 != Orientation::Right && o2 != Orientation::Right && o3 != Orientation::Right;
+                    const bool no_left = o1 != Orientation::Left && o2 != Orientation::Left && o3 != Orientation::Left;
+                    // Inside either turn of the triangle; a degenerate one is its segments, tested below.
+                    if ((no_right || no_left) && orient2d(s[i], s[j], s[k]) != Orientation::Collinear) return true;
+                }
+        return false;
+    };
+    for (size_t i = 0; i < a.size(); ++i)
+        for (size_t j = i; j < a.size(); ++j)
+            for (size_t k = 0; k < b.size(); ++k)
+                for (size_t l = k; l < b.size(); ++l)
+                    if (segments_intersect(a[i], a[j], b[k], b[l])) return true;
+    for (const Vec2& p : a)
+        if (in_hull(p, b)) return true;
+    for (const Vec2& p : b)
+        if (in_hull(p, a)) return true;
+    return false;
+}
+
+// The layers' crossing test passes over two strips (or a strip and a boundary segment) only
+// on hulls_apart's word: it must never say so of sets whose hulls meet or come within the
+// margin, and it should say so of thin slanted strips a little apart.
+TEST(HullsApart, NeverSaysSoOfHullsThatMeetOrComeWithinTheMargin) {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int apart = 0, meet = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        // Points around two centres whose distance varies from overlap to far apart, some
+        // sets thin (a strip) and some of two points, at scales from 1e-6 to 1e6.
+        const double scale = std::pow(10.0, 6.0 * u(rng));
+        const Vec2 shift{scale * 2.0 * u(rng), scale * 2.0 * u(rng)};
+        auto make = [&](Vec2 centre) {
+            std::vector<Vec2> s;
+            const auto n = static_cast<size_t>(2 + (rng() % 3));
+            const double thin = rng() % 4 == 0 ? 1e-4 : 1.0;
+            for (size_t i = 0; i < n; ++i) s.push_back(centre + scale * Vec2{u(rng), thin * u(rng)});
+            return s;
+        };
+        const std::vector<Vec2> a = make(Vec2{0.0, 0.0} + shift), b = make(scale * Vec2{1.5 * u(rng), 1.5 * u(rng)} + shift);
+        const double margin = 1e-9 * scale * 4.0;
+        const bool said = detail::hulls_apart(a, b, margin);
+        const bool touching = hulls_meet(a, b);
+        if (said) {
+            ++apart;
+            ASSERT_FALSE(touching) << "trial " << trial;
+            // Nor within the margin: moved by it towards each other along any axis, the hulls still miss.
+            for (const Vec2 d : {Vec2{1, 0}, Vec2{-1, 0}, Vec2{0, 1}, Vec2{0, -1}}) {
+                std::vector<Vec2> moved = a;
+                for (Vec2& p : moved) p = p + 0.7 * margin * d;
+                ASSERT_FALSE(hulls_meet(moved, b)) << "trial " << trial;
+            }
+        }
+        meet += touching ? 1 : 0;
+    }
+    EXPECT_GT(apart, 3000);  // it does say so, often
+    EXPECT_GT(meet, 2000);   // and the trials held many that meet
+
+    // Two thin strips leaning at 60 degrees, side by side a little apart, as a wall's layers
+    // are: their boxes overlap, their hulls do not, and the test sees it; sharing a corner, or
+    // closer than the margin, they are not apart.
+    const Vec2 lean{0.5, 0.8660254037844386};
+    const std::vector<Vec2> s1{{0.0, 0.0}, {0.01, 0.0}, lean, lean + Vec2{0.01, 0.0}};
+    std::vector<Vec2> s2 = s1;
+    for (Vec2& p : s2) p = p + Vec2{0.02, 0.0};
+    EXPECT_TRUE(detail::hulls_apart(s1, s2, 1e-9));
+    s2[0] = s1[1];
+    EXPECT_FALSE(detail::hulls_apart(s1, s2, 1e-9));
+    std::vector<Vec2> s3 = s1;
+    for (Vec2& p : s3) p = p + Vec2{0.01 + 1e-10, 0.0};
+    EXPECT_FALSE(detail::hulls_apart(s1, s3, 1e-9));
+    EXPECT_TRUE(detail::hulls_apart(s1, s3, 1e-11));
+}
+
 TEST(HugePages, ALargeReservationIsMarkedForHugePagesAndKeepsItsContents) {
     std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
     std::string mode((std::istreambuf_iterator<char>(thp)), std::istreambuf_iterator<char>());

@@ -130,6 +130,34 @@ void for_each_box_overlap(const SegmentSoup& soup, const std::function<void(std:
     for_each_candidate(soup, grid, [&](std::uint32_t i, std::uint32_t j) { visit(std::min(i, j), std::max(i, j)); });
 }
 
+bool hulls_apart(std::span<const Vec2> a, std::span<const Vec2> b, double margin) {
+    // The two sets' extents along n, and whether a gap of more than margin |n| lies between.
+    auto parted_along = [&](Vec2 n) {
+        const double len = norm(n);
+        if (!(len > 0.0)) return false;
+        double a_lo = HUGE_VAL, a_hi = -HUGE_VAL, b_lo = HUGE_VAL, b_hi = -HUGE_VAL;
+        for (const Vec2& p : a) {
+            const double d = dot(n, p);
+            a_lo = fmin_inline(a_lo, d);
+            a_hi = fmax_inline(a_hi, d);
+        }
+        for (const Vec2& p : b) {
+            const double d = dot(n, p);
+            b_lo = fmin_inline(b_lo, d);
+            b_hi = fmax_inline(b_hi, d);
+        }
+        const double gap = margin * len;
+        return a_lo - b_hi > gap || b_lo - a_hi > gap;
+    };
+    for (const std::span<const Vec2> s : {a, b})
+        for (size_t i = 0; i < s.size(); ++i)
+            for (size_t j = i + 1; j < s.size(); ++j) {
+                const Vec2 d = s[j] - s[i];
+                if (parted_along(perp(d)) || parted_along(d)) return true;
+            }
+    return false;
+}
+
 std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const SegmentSoup& soup) {
     std::optional<std::pair<std::uint32_t, std::uint32_t>> best;
     for_each_crossing(soup, [&](std::uint32_t i, std::uint32_t j) {

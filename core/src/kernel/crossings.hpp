@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -71,6 +72,13 @@ void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::ui
 /// Calls visit(i, j), i < j, for every pair of segments whose bounding boxes (the boxes with
 /// the segment as their diagonal) overlap or touch, each pair once.
 void for_each_box_overlap(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit);
+
+/// True when the convex hulls of the point sets a and b are more than `margin` apart along
+/// a direction at right angles to, or along, the line through two points of one set (each
+/// pair of a set is tried: a hull's edges are among them). A cheap test that may say false
+/// of sets that are apart, never true of sets that meet: with a margin far above the
+/// rounding of the projections (1e-9 of the coordinates' size, say), it serves as proof.
+bool hulls_apart(std::span<const Vec2> a, std::span<const Vec2> b, double margin);
 
 /// The crossing pair (i, j), i < j, with the smallest i (then j), if any.
 std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const SegmentSoup& soup);

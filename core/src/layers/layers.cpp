@@ -1,9 +1,11 @@
 #include "layers/layers.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <span>
 #include <tuple>
 #include <unordered_map>
 
@@ -959,13 +961,12 @@ private:
             soup.segments.push_back({a, e});
             strip_of.push_back(strip);
         };
-        auto cell = [&](std::initializer_list<std::uint32_t> v, std::uint32_t strip) {
-            const std::vector<std::uint32_t> c(v);
-            const size_t n = c.size();
-            for (size_t i = 0; i < n; ++i) {
-                if (orient2d(soup.points[c[i]], soup.points[c[(i + 1) % n]], soup.points[c[(i + 2) % n]]) !=
-                    Orientation::Left) {
-                    for (std::uint32_t p : c) drop(p);  // the cell's points above the wall go
+        auto cell = [&](const Cell& c, std::uint32_t strip) {
+            const int n = c.corners;
+            for (int i = 0; i < n; ++i) {
+                if (orient2d(soup.points[c.v[static_cast<size_t>(i)]], soup.points[c.v[static_cast<size_t>((i + 1) % n)]],
+                             soup.points[c.v[static_cast<size_t>((i + 2) % n)]]) != Orientation::Left) {
+                    for (int k = 0; k < n; ++k) drop(c.v[static_cast<size_t>(k)]);  // the cell's points above the wall go
                     suspect[strip] = 1;
                     return;
                 }
@@ -983,26 +984,46 @@ private:
             walk_cells(ch, [&](const Cell& c) {
                 const std::uint32_t strip = first_strip[ci] + c.strip;
                 edge(c.across[0], c.across[1], strip);
-                if (c.corners == 4) cell({c.v[0], c.v[1], c.v[2], c.v[3]}, strip);
-                else cell({c.v[0], c.v[1], c.v[2]}, strip);
+                cell(c, strip);
             });
         }
         // Each strip's box (its two columns' points) and each boundary segment, as diagonals;
         // the strips that meet another strip not beside them, or a boundary segment that is
-        // not their own or their neighbours', are suspects.
+        // not their own or their neighbours', are suspects. Where the boxes meet, a strip
+        // between two straight columns (neither slides on a curve) is first looked at as the
+        // hull of its columns' ends, which holds every point of its columns and so every edge
+        // between them: thin strips leaning across the walls' normals have boxes far larger
+        // than themselves (200 layers of growth 1 on a slanted wall made every strip a
+        // suspect, and the crossing test of their edges took 75% of the mesh), and the hulls
+        // of two that do not meet are apart by a margin far above the rounding of the
+        // columns' points off their lines.
         detail::SegmentSoup boxes;
+        std::vector<std::array<Vec2, 4>> hull(strips);
+        std::vector<char> straight(strips, 0);
+        double scale = 0.0;
+        for (const Vec2& p : soup.points) scale = std::max({scale, std::fabs(p.x), std::fabs(p.y)});
+        const double margin = 1e-9 * scale;
         for (std::uint32_t ci = 0; ci < chains_.size(); ++ci) {
             const size_t nc = chains_[ci].columns.size();
             for (std::uint32_t k = 0; k < strip_count(ci); ++k) {
                 const auto next = static_cast<std::uint32_t>((k + 1) % nc);
+                const std::uint32_t strip = first_strip[ci] + k;
                 Box box;
                 for (const std::uint32_t c : {k, next})
                     for (const std::uint32_t id : chains_[ci].columns[c].ids) box.add(soup.points[id]);
                 boxes.points.push_back(box.lo);
                 boxes.points.push_back(box.hi);
-                boxes.segments.push_back({2 * (first_strip[ci] + k), 2 * (first_strip[ci] + k) + 1});
+                boxes.segments.push_back({2 * strip, 2 * strip + 1});
+                const Column& P = chains_[ci].columns[k];
+                const Column& Q = chains_[ci].columns[next];
+                straight[strip] = P.slide == kNoCurve && Q.slide == kNoCurve;
+                hull[strip] = {soup.points[P.ids.front()], soup.points[P.ids.back()], soup.points[Q.ids.front()],
+                               soup.points[Q.ids.back()]};
             }
         }
+        auto apart = [&](std::uint32_t strip, std::span<const Vec2> other) {
+            return straight[strip] && detail::hulls_apart(hull[strip], other, margin);
+        };
         for (size_t i = 0; i < boundary; ++i) {
             boxes.segments.push_back({static_cast<std::uint32_t>(boxes.points.size()), static_cast<std::uint32_t>(boxes.points.size() + 1)});
             boxes.points.push_back(soup.points[soup.segments[i][0]]);
@@ -1032,11 +1053,12 @@ private:
         std::vector<std::pair<std::uint32_t, std::uint32_t>> near;  // (strip, boundary segment)
         detail::for_each_box_overlap(boxes, [&](std::uint32_t i, std::uint32_t j) {
             if (j < strips) {  // two strips
-                if (!adjacent(i, j)) suspect[i] = suspect[j] = 1;
+                if (!adjacent(i, j) && !(straight[j] && apart(i, hull[j]))) suspect[i] = suspect[j] = 1;
             } else if (i < strips) {  // a strip and a boundary segment
                 const auto& e = soup.segments[j - strips];
+                const std::array<Vec2, 2> ends{soup.points[e[0]], soup.points[e[1]]};
                 const auto it = own.find(key(e[0], e[1]));
-                if (it == own.end() || !(it->second == i || adjacent(i, it->second))) {
+                if ((it == own.end() || !(it->second == i || adjacent(i, it->second))) && !apart(i, ends)) {
                     suspect[i] = 1;
                     near.push_back({i, j - strips});
                 }
