@@ -374,6 +374,102 @@ TEST(SegmentGrid, BoxOverlapsAndCrossingsAreTheSameAsTestingEveryPair) {
     EXPECT_EQ(crossings, want_crossings);  // random chains do not fold back on themselves
 }
 
+// The searches over runs of a soup: within one run, the pairs of that run only; between two
+// runs, every pair of one segment from each, as testing every such pair finds them, each once.
+// The runs are thin layers' columns and rungs (the crowd of long segments over short ones
+// that the runs are there for) and random segments over them.
+TEST(SegmentGrid, CrossingsWithinAndBetweenRunsAreTheSameAsTestingEveryPair) {
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    detail::SegmentSoup soup;
+    auto add = [&](Vec2 a, Vec2 b) {
+        soup.points.push_back(a);
+        soup.points.push_back(b);
+        const auto n = static_cast<std::uint32_t>(soup.points.size());
+        soup.segments.push_back({n - 2, n - 1});
+    };
+    // Run 0: a strip of 300 levels 1e-4 apart leaning at 50 degrees, its two columns as chains
+    // (shared ends) and its rungs.
+    const Vec2 dir{std::cos(0.87), std::sin(0.87)};
+    const auto base = static_cast<std::uint32_t>(soup.points.size());
+    for (int l = 0; l <= 300; ++l) {
+        soup.points.push_back(Vec2{0.2, 0.2} + 1e-4 * l * dir);
+        soup.points.push_back(Vec2{0.35, 0.2} + 1e-4 * l * dir);
+    }
+    for (std::uint32_t l = 0; l < 300; ++l) {
+        soup.segments.push_back({base + 2 * l, base + 2 * l + 2});
+        soup.segments.push_back({base + 2 * l + 1, base + 2 * l + 3});
+        soup.segments.push_back({base + 2 * l + 2, base + 2 * l + 3});
+    }
+    const auto strip_end = static_cast<std::uint32_t>(soup.segments.size());
+    // Run 1: segments of sizes from 1e-5 to 0.3 over and around it, some sharing the strip's
+    // points, some chained among themselves.
+    for (int i = 0; i < 400; ++i) {
+        const Vec2 a{0.1 + 0.4 * u(rng), 0.1 + 0.4 * u(rng)};
+        const double len = 0.3 * std::pow(10.0, -4.5 * u(rng)), angle = 6.283185307179586 * u(rng);
+        add(a, a + len * Vec2{std::cos(angle), std::sin(angle)});
+        if (i % 5 == 0) soup.segments.back()[0] = base + 2 * static_cast<std::uint32_t>(rng() % 300);
+        if (i % 7 == 0 && i > 0) soup.segments.push_back({soup.segments.back()[1], soup.segments[soup.segments.size() - 2][1]});
+    }
+    const auto end = static_cast<std::uint32_t>(soup.segments.size());
+    using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+    auto crossing = [&](std::uint32_t i, std::uint32_t j) {
+        const auto& s = soup.segments[i];
+        const auto& t = soup.segments[j];
+        const Vec2 a = soup.points[s[0]], b = soup.points[s[1]], c = soup.points[t[0]], d = soup.points[t[1]];
+        const bool neighbours = s[0] == t[0] || s[0] == t[1] || s[1] == t[0] || s[1] == t[1];
+        if (!neighbours) return segments_intersect(a, b, c, d);
+        // A common end: only a collinear overlap.
+        const std::uint32_t shared = (s[0] == t[0] || s[0] == t[1]) ? s[0] : s[1];
+        const Vec2 p = soup.points[shared], so = soup.points[s[0] == shared ? s[1] : s[0]],
+                   to = soup.points[t[0] == shared ? t[1] : t[0]];
+        return orient2d(p, so, to) == Orientation::Collinear && dot(so - p, to - p) >= 0.0;
+    };
+    Pairs want_between, want_within;
+    for (std::uint32_t i = 0; i < strip_end; ++i)
+        for (std::uint32_t j = strip_end; j < end; ++j)
+            if (crossing(i, j)) want_between.emplace_back(i, j);
+    for (std::uint32_t i = strip_end; i < end; ++i)
+        for (std::uint32_t j = i + 1; j < end; ++j)
+            if (crossing(i, j)) want_within.emplace_back(i, j);
+    Pairs between, within, strip;
+    detail::for_each_crossing_between(soup, {0, strip_end}, {strip_end, end},
+                                      [&](std::uint32_t i, std::uint32_t j) { between.emplace_back(i, j); });
+    detail::for_each_crossing(soup, {strip_end, end}, [&](std::uint32_t i, std::uint32_t j) { within.emplace_back(i, j); });
+    // The strip alone: its columns and rungs meet only at their shared ends.
+    detail::for_each_crossing(soup, {0, strip_end}, [&](std::uint32_t i, std::uint32_t j) { strip.emplace_back(i, j); });
+    std::sort(between.begin(), between.end());
+    std::sort(within.begin(), within.end());
+    EXPECT_GT(want_between.size(), 100u);
+    EXPECT_GT(want_within.size(), 20u);
+    EXPECT_EQ(between, want_between);
+    EXPECT_EQ(within, want_within);
+    EXPECT_TRUE(strip.empty());
+    // Each way round the same pairs.
+    Pairs reversed;
+    detail::for_each_crossing_between(soup, {strip_end, end}, {0, strip_end},
+                                      [&](std::uint32_t i, std::uint32_t j) { reversed.emplace_back(j, i); });
+    std::sort(reversed.begin(), reversed.end());
+    EXPECT_EQ(reversed, want_between);
+    // Runs short enough to be tested pair by pair (at most 4,096 pairs), each way round: the
+    // same pairs as the oracle's within them.
+    size_t small_pairs = 0;
+    for (std::uint32_t first = 0; first + 40 <= strip_end; first += 37) {
+        const detail::SegmentRange a{first, first + 40}, b{strip_end + first % 300, strip_end + first % 300 + 100};
+        Pairs want, got, got_reversed;
+        for (const auto& [i, j] : want_between)
+            if (i >= a.first && i < a.last && j >= b.first && j < b.last) want.emplace_back(i, j);
+        detail::for_each_crossing_between(soup, a, b, [&](std::uint32_t i, std::uint32_t j) { got.emplace_back(i, j); });
+        detail::for_each_crossing_between(soup, b, a, [&](std::uint32_t i, std::uint32_t j) { got_reversed.emplace_back(j, i); });
+        std::sort(got.begin(), got.end());
+        std::sort(got_reversed.begin(), got_reversed.end());
+        EXPECT_EQ(got, want) << first;
+        EXPECT_EQ(got_reversed, want) << first;
+        small_pairs += want.size();
+    }
+    EXPECT_GT(small_pairs, 10u);
+}
+
 // Whether the convex hulls of two small point sets meet, exactly: a pair of one set's points
 // and a pair of the other's cross or touch, or a point of one lies in (or on) a triangle of
 // the other's points (the hull is the union of those triangles; a set of one or two points

@@ -11,13 +11,13 @@ namespace meshd::core::detail {
 
 namespace {
 
-Box grown_box(const SegmentSoup& soup, double margin) {
+Box grown_box(const SegmentSoup& soup, double margin, SegmentRange run) {
     Box box;
-    for (const auto& s : soup.segments) {
-        box.add(soup.points[s[0]]);
-        box.add(soup.points[s[1]]);
+    for (std::uint32_t i = run.first; i < run.last; ++i) {
+        box.add(soup.points[soup.segments[i][0]]);
+        box.add(soup.points[soup.segments[i][1]]);
     }
-    if (!soup.segments.empty()) {
+    if (run.last > run.first) {
         box.lo = box.lo - Vec2{margin, margin};
         box.hi = box.hi + Vec2{margin, margin};
     }
@@ -26,26 +26,33 @@ Box grown_box(const SegmentSoup& soup, double margin) {
 
 double longest_side(const Box& b) { return fmax_inline(b.hi.x - b.lo.x, b.hi.y - b.lo.y); }
 
+SegmentRange all_of(const SegmentSoup& soup) { return {0, static_cast<std::uint32_t>(soup.segments.size())}; }
+
+// Up to this many pairs, for_each_crossing_between tests each (the shorter run then holds at
+// most 64 segments).
+constexpr std::uint64_t kBetweenEveryPair = 4096;
+
 }  // namespace
 
 SegmentGrid::SegmentGrid(const SegmentSoup& soup, double margin)
-    : SegmentGrid(soup, margin, grown_box(soup, margin)) {}
+    : SegmentGrid(soup, margin, grown_box(soup, margin, all_of(soup)), 0, static_cast<std::uint32_t>(soup.segments.size())) {}
 
-SegmentGrid::SegmentGrid(const SegmentSoup& soup, double margin, const Box& box)
-    : soup_(soup), margin_(margin), classes_(box.lo, longest_side(box)) {
-    const size_t n = soup.segments.size();
-    if (n == 0 || !(longest_side(box) > 0.0)) return;
+SegmentGrid::SegmentGrid(const SegmentSoup& soup, double margin, const Box& frame, std::uint32_t first,
+                         std::uint32_t last)
+    : soup_(soup), margin_(margin), first_(first), classes_(frame.lo, longest_side(frame)) {
+    if (last <= first || !(longest_side(frame) > 0.0)) return;
     // Each segment in the grid whose cells (2 c_k) are one to two times its grown box's
     // longest side: the box spans at most 2 x 2 cells there.
-    cls_.resize(n);
-    for (std::uint32_t i = 0; i < n; ++i) {
+    cls_.resize(last - first);
+    for (std::uint32_t i = first; i < last; ++i) {
         const Vec2 a = soup.points[soup.segments[i][0]], b = soup.points[soup.segments[i][1]];
         const double side = fmax_inline(std::fabs(a.x - b.x), std::fabs(a.y - b.y)) + 2.0 * margin;
-        cls_[i] = classes_.class_of(0.5 * side);
-        used_[static_cast<size_t>(cls_[i])] = true;
-        const Cells r = cells(i, cls_[i]);
+        const int k = classes_.class_of(0.5 * side);
+        cls_[i - first] = k;
+        used_[static_cast<size_t>(k)] = true;
+        const Cells r = cells(i, k);
         for (auto x = r.x0; x <= r.x1; ++x)
-            for (auto y = r.y0; y <= r.y1; ++y) grid_.push(cls_[i], x, y, i);
+            for (auto y = r.y0; y <= r.y1; ++y) grid_.push(k, x, y, i);
     }
 }
 
@@ -57,77 +64,137 @@ SegmentGrid::Cells SegmentGrid::cells(std::uint32_t segment, int k) const {
 
 namespace {
 
-// Calls visit(i, j) for every pair of segments whose boxes (the boxes with the segments as
-// their diagonals; the grid's margin is 0) overlap or touch, each pair once, from the smaller
-// segment, j in increasing order for each i.
-template <class F>
-void for_each_candidate(const SegmentSoup& soup, const SegmentGrid& grid, F&& visit) {
-    auto box = [&](std::uint32_t i) {
-        Box b;
-        b.add(soup.points[soup.segments[i][0]]);
-        b.add(soup.points[soup.segments[i][1]]);
-        return b;
-    };
-    std::vector<std::uint32_t> candidates;
-    // The segment whose candidates last took each segment: a segment met again in another
-    // cell is not taken twice (thin layers put dozens of levels in one cell of their longer
-    // edges, each met from up to four cells).
-    std::vector<std::uint32_t> taken_by(soup.segments.size(), UINT32_MAX);
-    for (std::uint32_t i = 0; i < soup.segments.size(); ++i) {
-        candidates.clear();
-        const int own = grid.size_class(i);
-        const Box bi = box(i);
-        for (int k = 1; k <= own; ++k) {  // classes of segments no smaller than this one
-            if (!grid.class_used(k)) continue;
-            const SegmentGrid::Cells r = grid.cells(i, k);
-            for (auto x = r.x0; x <= r.x1; ++x)
-                for (auto y = r.y0; y <= r.y1; ++y)
-                    grid.in_cell(k, x, y, [&](std::uint32_t j) {
-                        if (j == i || (grid.size_class(j) == own && j < i)) return;  // same class: test once
-                        if (taken_by[j] == i) return;
-                        taken_by[j] = i;
-                        const Box bj = box(j);
-                        if (bi.lo.x <= bj.hi.x && bj.lo.x <= bi.hi.x && bi.lo.y <= bj.hi.y && bj.lo.y <= bi.hi.y)
-                            candidates.push_back(j);
-                    });
-        }
-        if (candidates.empty()) continue;
-        std::sort(candidates.begin(), candidates.end());  // the callers' order: by segment
-        for (const std::uint32_t j : candidates) visit(i, j);
+Box segment_box(const SegmentSoup& soup, std::uint32_t i) {
+    Box b;
+    b.add(soup.points[soup.segments[i][0]]);
+    b.add(soup.points[soup.segments[i][1]]);
+    return b;
+}
+
+bool boxes_meet(const Box& a, const Box& b) {
+    return a.lo.x <= b.hi.x && b.lo.x <= a.hi.x && a.lo.y <= b.hi.y && b.lo.y <= a.hi.y;
+}
+
+// Calls visit(i, j) for every j in `grid` of a class from 1 to `upto` whose box (the box with
+// the segment as its diagonal; the grid's margin is 0) overlaps or touches i's, and that
+// `take(j)` lets through, in increasing order of j. `taken_by` (indexed by j - base) holds
+// the query whose candidates last took each segment: a segment met again in another cell is
+// not taken twice (thin layers put dozens of levels in one cell of their longer edges, each
+// met from up to four cells).
+template <class Take, class F>
+void candidates_of(const SegmentSoup& soup, std::uint32_t i, const SegmentGrid& grid, int upto, Take&& take,
+                   std::vector<std::uint32_t>& taken_by, std::uint32_t base, std::vector<std::uint32_t>& candidates,
+                   F&& visit) {
+    candidates.clear();
+    const Box bi = segment_box(soup, i);
+    for (int k = 1; k <= upto; ++k) {
+        if (!grid.class_used(k)) continue;
+        const SegmentGrid::Cells r = grid.cells(i, k);
+        for (auto x = r.x0; x <= r.x1; ++x)
+            for (auto y = r.y0; y <= r.y1; ++y)
+                grid.in_cell(k, x, y, [&](std::uint32_t j) {
+                    if (!take(j) || taken_by[j - base] == i) return;
+                    taken_by[j - base] = i;
+                    if (boxes_meet(bi, segment_box(soup, j))) candidates.push_back(j);
+                });
     }
+    std::sort(candidates.begin(), candidates.end());  // the callers' order: by segment
+    for (const std::uint32_t j : candidates) visit(i, j);
+}
+
+// Calls visit(i, j) for every pair of segments of the run whose boxes overlap or touch, each
+// pair once, from the smaller segment, j in increasing order for each i.
+template <class F>
+void for_each_candidate(const SegmentSoup& soup, const SegmentGrid& grid, SegmentRange run, F&& visit) {
+    std::vector<std::uint32_t> candidates;
+    std::vector<std::uint32_t> taken_by(run.last - run.first, UINT32_MAX);
+    for (std::uint32_t i = run.first; i < run.last; ++i) {
+        const int own = grid.size_class(i);
+        // Classes of segments no smaller than this one; within its own class, each pair once.
+        candidates_of(
+            soup, i, grid, own, [&](std::uint32_t j) { return j != i && (grid.size_class(j) != own || j > i); },
+            taken_by, run.first, candidates, visit);
+    }
+}
+
+// Whether segments i and j share a point; neighbours (a common end) only where they overlap.
+bool segments_cross(const SegmentSoup& soup, std::uint32_t i, std::uint32_t j) {
+    const auto& pts = soup.points;
+    const auto& s = soup.segments[i];
+    const auto& t = soup.segments[j];
+    if (s[0] == t[0] || s[0] == t[1] || s[1] == t[0] || s[1] == t[1]) {
+        // Neighbours: only a collinear overlap (folding back) is a crossing.
+        const std::uint32_t shared = (s[0] == t[0] || s[0] == t[1]) ? s[0] : s[1];
+        const std::uint32_t so = s[0] == shared ? s[1] : s[0];
+        const std::uint32_t to = t[0] == shared ? t[1] : t[0];
+        return so == to || (orient2d(pts[shared], pts[so], pts[to]) == Orientation::Collinear &&
+                            dot(pts[so] - pts[shared], pts[to] - pts[shared]) >= 0.0);
+    }
+    return segments_intersect(pts[s[0]], pts[s[1]], pts[t[0]], pts[t[1]]);
 }
 
 }  // namespace
 
-void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
-    const auto& pts = soup.points;
-    const auto& segs = soup.segments;
-    if (segs.size() < 2) return;
-    const SegmentGrid grid(soup, 0.0);
+void for_each_crossing(const SegmentSoup& soup, SegmentRange run, const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
+    if (run.last < run.first + 2) return;
+    const SegmentGrid grid(soup, 0.0, grown_box(soup, 0.0, run), run.first, run.last);
     if (grid.empty()) return;
-    for_each_candidate(soup, grid, [&](std::uint32_t i, std::uint32_t j) {
-        const auto& s = segs[i];
-        const auto& t = segs[j];
-        if (s[0] == t[0] || s[0] == t[1] || s[1] == t[0] || s[1] == t[1]) {
-            // Neighbours: only a collinear overlap (folding back) is a crossing.
-            const std::uint32_t shared = (s[0] == t[0] || s[0] == t[1]) ? s[0] : s[1];
-            const std::uint32_t so = s[0] == shared ? s[1] : s[0];
-            const std::uint32_t to = t[0] == shared ? t[1] : t[0];
-            if (so != to && (orient2d(pts[shared], pts[so], pts[to]) != Orientation::Collinear ||
-                             dot(pts[so] - pts[shared], pts[to] - pts[shared]) < 0.0))
-                return;
-        } else if (!segments_intersect(pts[s[0]], pts[s[1]], pts[t[0]], pts[t[1]])) {
-            return;
-        }
-        visit(std::min(i, j), std::max(i, j));
+    for_each_candidate(soup, grid, run, [&](std::uint32_t i, std::uint32_t j) {
+        if (segments_cross(soup, i, j)) visit(std::min(i, j), std::max(i, j));
     });
+}
+
+void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
+    for_each_crossing(soup, all_of(soup), visit);
+}
+
+void for_each_crossing_between(const SegmentSoup& soup, SegmentRange a, SegmentRange b,
+                               const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
+    if (a.last <= a.first || b.last <= b.first) return;
+    // Few pairs: each tested, rather than two grids made (their hash tables' fixed cost is
+    // some 50,000 instructions; a pair's boxes take about ten).
+    if (static_cast<std::uint64_t>(a.last - a.first) * (b.last - b.first) <= kBetweenEveryPair) {
+        // The shorter run's boxes made once (it holds at most 64 segments).
+        const bool a_shorter = a.last - a.first <= b.last - b.first;
+        const SegmentRange shorter = a_shorter ? a : b, longer = a_shorter ? b : a;
+        std::array<Box, 64> boxes;
+        for (std::uint32_t i = shorter.first; i < shorter.last; ++i) boxes[i - shorter.first] = segment_box(soup, i);
+        for (std::uint32_t j = longer.first; j < longer.last; ++j) {
+            const Box bj = segment_box(soup, j);
+            for (std::uint32_t i = shorter.first; i < shorter.last; ++i)
+                if (boxes_meet(boxes[i - shorter.first], bj) && segments_cross(soup, i, j)) {
+                    if (a_shorter) visit(i, j);
+                    else visit(j, i);
+                }
+        }
+        return;
+    }
+    // One frame for both grids, so that their classes compare.
+    Box frame = grown_box(soup, 0.0, a);
+    frame.add(grown_box(soup, 0.0, b));
+    const SegmentGrid grid_a(soup, 0.0, frame, a.first, a.last), grid_b(soup, 0.0, frame, b.first, b.last);
+    if (grid_a.empty() || grid_b.empty()) return;
+    std::vector<std::uint32_t> candidates;
+    auto cross = [&](std::uint32_t i, std::uint32_t j) {
+        if (segments_cross(soup, i, j)) visit(i, j);
+    };
+    // Each pair from its smaller segment: a's in b's classes no smaller than their own, b's in
+    // a's classes strictly larger.
+    std::vector<std::uint32_t> taken_b(b.last - b.first, UINT32_MAX);
+    for (std::uint32_t i = a.first; i < a.last; ++i)
+        candidates_of(soup, i, grid_b, grid_a.size_class(i), [](std::uint32_t) { return true; }, taken_b, b.first,
+                      candidates, cross);
+    std::vector<std::uint32_t> taken_a(a.last - a.first, UINT32_MAX);
+    for (std::uint32_t j = b.first; j < b.last; ++j)
+        candidates_of(soup, j, grid_a, grid_b.size_class(j) - 1, [](std::uint32_t) { return true; }, taken_a, a.first,
+                      candidates, [&](std::uint32_t jj, std::uint32_t i) { cross(i, jj); });
 }
 
 void for_each_box_overlap(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
     if (soup.segments.size() < 2) return;
     const SegmentGrid grid(soup, 0.0);
     if (grid.empty()) return;
-    for_each_candidate(soup, grid, [&](std::uint32_t i, std::uint32_t j) { visit(std::min(i, j), std::max(i, j)); });
+    for_each_candidate(soup, grid, all_of(soup), [&](std::uint32_t i, std::uint32_t j) { visit(std::min(i, j), std::max(i, j)); });
 }
 
 bool hulls_apart(std::span<const Vec2> a, std::span<const Vec2> b, double margin) {

@@ -35,9 +35,12 @@ public:
     };
 
     SegmentGrid(const SegmentSoup& soup, double margin);
+    /// The segments first to last - 1 only, in the size classes of `frame` (grids made with
+    /// one frame have the same classes, so that their segments' sizes compare).
+    SegmentGrid(const SegmentSoup& soup, double margin, const Box& frame, std::uint32_t first, std::uint32_t last);
 
     bool empty() const { return cls_.empty(); }
-    int size_class(std::uint32_t segment) const { return cls_[segment]; }
+    int size_class(std::uint32_t segment) const { return cls_[segment - first_]; }
     bool class_used(int k) const { return used_[static_cast<size_t>(k)]; }
     /// The cells of class k that the segment's grown box covers.
     Cells cells(std::uint32_t segment, int k) const;
@@ -55,10 +58,9 @@ public:
     }
 
 private:
-    SegmentGrid(const SegmentSoup& soup, double margin, const Box& box);
-
     const SegmentSoup& soup_;
     double margin_;
+    std::uint32_t first_ = 0;
     SizeClasses classes_;
     std::vector<int> cls_;
     std::array<bool, SizeClasses::kMax + 1> used_{};
@@ -68,6 +70,21 @@ private:
 /// Calls visit(i, j), i < j, for every pair of segments that share a point (segments with a
 /// common end only when they overlap), each pair once.
 void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit);
+
+/// A run of a soup's segments, first to last - 1.
+struct SegmentRange {
+    std::uint32_t first, last;
+};
+
+/// for_each_crossing among the segments of one run only.
+void for_each_crossing(const SegmentSoup& soup, SegmentRange run, const std::function<void(std::uint32_t, std::uint32_t)>& visit);
+
+/// Calls visit(i, j) for every i of run a and j of run b (two runs that do not overlap) that
+/// share a point, as for_each_crossing tells them, each pair once (i always a's). Segments of the same run
+/// are never looked at together: where a run's own segments crowd its grid's cells (dozens of
+/// thin layers' rungs over one column), only the other run's segments pay for the crowd.
+void for_each_crossing_between(const SegmentSoup& soup, SegmentRange a, SegmentRange b,
+                               const std::function<void(std::uint32_t, std::uint32_t)>& visit);
 
 /// Calls visit(i, j), i < j, for every pair of segments whose bounding boxes (the boxes with
 /// the segment as their diagonal) overlap or touch, each pair once.
