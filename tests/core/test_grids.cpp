@@ -468,6 +468,33 @@ TEST(SegmentGrid, CrossingsWithinAndBetweenRunsAreTheSameAsTestingEveryPair) {
         small_pairs += want.size();
     }
     EXPECT_GT(small_pairs, 10u);
+    // The same through RunCrossings, whose grids are made once for every pair asked: the
+    // whole strip against the rest, then its pieces (short and long) against the rest's.
+    std::vector<detail::SegmentRange> runs{{0, strip_end}, {strip_end, end}};
+    for (std::uint32_t first = 0; first + 300 <= strip_end; first += 300) runs.push_back({first, first + 300});
+    for (std::uint32_t first = strip_end; first + 30 <= end; first += 30) runs.push_back({first, first + 30});
+    detail::RunCrossings rc(soup, runs);
+    Pairs whole;
+    rc.between(0, 1, [&](std::uint32_t i, std::uint32_t j) { whole.emplace_back(i, j); });
+    std::sort(whole.begin(), whole.end());
+    EXPECT_EQ(whole, want_between);
+    for (size_t r = 2; r < runs.size(); ++r)
+        for (size_t q = 2; q < runs.size(); ++q) {
+            const bool strip_r = runs[r].last <= strip_end, strip_q = runs[q].last <= strip_end;
+            if (strip_r == strip_q) continue;
+            const detail::SegmentRange a = runs[r], b = runs[q];
+            Pairs want, got;
+            for (const auto& [i, j] : want_between) {
+                const bool ok = strip_r ? (i >= a.first && i < a.last && j >= b.first && j < b.last)
+                                        : (j >= a.first && j < a.last && i >= b.first && i < b.last);
+                if (ok) want.emplace_back(i, j);
+            }
+            rc.between(r, q, [&](std::uint32_t i, std::uint32_t j) {
+                got.emplace_back(strip_r ? i : j, strip_r ? j : i);
+            });
+            std::sort(got.begin(), got.end());
+            ASSERT_EQ(got, want) << r << " " << q;
+        }
 }
 
 // Whether the convex hulls of two small point sets meet, exactly: a pair of one set's points

@@ -148,12 +148,15 @@ void for_each_crossing(const SegmentSoup& soup, const std::function<void(std::ui
     for_each_crossing(soup, all_of(soup), visit);
 }
 
-void for_each_crossing_between(const SegmentSoup& soup, SegmentRange a, SegmentRange b,
-                               const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
-    if (a.last <= a.first || b.last <= b.first) return;
-    // Few pairs: each tested, rather than two grids made (their hash tables' fixed cost is
-    // some 50,000 instructions; a pair's boxes take about ten).
-    if (static_cast<std::uint64_t>(a.last - a.first) * (b.last - b.first) <= kBetweenEveryPair) {
+namespace {
+
+// True (and each pair visited) when the runs are short enough to test every pair: rather than
+// two grids made (their hash tables' fixed cost is some 50,000 instructions; a pair's boxes
+// take about ten).
+bool every_pair_between(const SegmentSoup& soup, SegmentRange a, SegmentRange b,
+                        const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
+    if (static_cast<std::uint64_t>(a.last - a.first) * (b.last - b.first) > kBetweenEveryPair) return false;
+    {
         // The shorter run's boxes made once (it holds at most 64 segments).
         const bool a_shorter = a.last - a.first <= b.last - b.first;
         const SegmentRange shorter = a_shorter ? a : b, longer = a_shorter ? b : a;
@@ -167,27 +170,69 @@ void for_each_crossing_between(const SegmentSoup& soup, SegmentRange a, SegmentR
                     else visit(j, i);
                 }
         }
-        return;
     }
-    // One frame for both grids, so that their classes compare.
-    Box frame = grown_box(soup, 0.0, a);
-    frame.add(grown_box(soup, 0.0, b));
-    const SegmentGrid grid_a(soup, 0.0, frame, a.first, a.last), grid_b(soup, 0.0, frame, b.first, b.last);
+    return true;
+}
+
+// for_each_crossing_between with the runs' grids (made in one frame, so that their classes
+// compare) and boxes given.
+void grids_between(const SegmentSoup& soup, const SegmentGrid& grid_a, SegmentRange a, const Box& box_a,
+                   const SegmentGrid& grid_b, SegmentRange b, const Box& box_b,
+                   const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
     if (grid_a.empty() || grid_b.empty()) return;
     std::vector<std::uint32_t> candidates;
     auto cross = [&](std::uint32_t i, std::uint32_t j) {
         if (segments_cross(soup, i, j)) visit(i, j);
     };
     // Each pair from its smaller segment: a's in b's classes no smaller than their own, b's in
-    // a's classes strictly larger.
+    // a's classes strictly larger; a segment clear of the other run's box asks nothing (two
+    // strips that face each other meet over a part of each).
     std::vector<std::uint32_t> taken_b(b.last - b.first, UINT32_MAX);
     for (std::uint32_t i = a.first; i < a.last; ++i)
-        candidates_of(soup, i, grid_b, grid_a.size_class(i), [](std::uint32_t) { return true; }, taken_b, b.first,
-                      candidates, cross);
+        if (boxes_meet(segment_box(soup, i), box_b))
+            candidates_of(soup, i, grid_b, grid_a.size_class(i), [](std::uint32_t) { return true; }, taken_b, b.first,
+                          candidates, cross);
     std::vector<std::uint32_t> taken_a(a.last - a.first, UINT32_MAX);
     for (std::uint32_t j = b.first; j < b.last; ++j)
-        candidates_of(soup, j, grid_a, grid_b.size_class(j) - 1, [](std::uint32_t) { return true; }, taken_a, a.first,
-                      candidates, [&](std::uint32_t jj, std::uint32_t i) { cross(i, jj); });
+        if (boxes_meet(segment_box(soup, j), box_a))
+            candidates_of(soup, j, grid_a, grid_b.size_class(j) - 1, [](std::uint32_t) { return true; }, taken_a,
+                          a.first, candidates, [&](std::uint32_t jj, std::uint32_t i) { cross(i, jj); });
+}
+
+}  // namespace
+
+void for_each_crossing_between(const SegmentSoup& soup, SegmentRange a, SegmentRange b,
+                               const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
+    if (a.last <= a.first || b.last <= b.first || every_pair_between(soup, a, b, visit)) return;
+    const Box box_a = grown_box(soup, 0.0, a), box_b = grown_box(soup, 0.0, b);
+    Box frame = box_a;
+    frame.add(box_b);
+    const SegmentGrid grid_a(soup, 0.0, frame, a.first, a.last), grid_b(soup, 0.0, frame, b.first, b.last);
+    grids_between(soup, grid_a, a, box_a, grid_b, b, box_b, visit);
+}
+
+RunCrossings::RunCrossings(const SegmentSoup& soup, std::vector<SegmentRange> runs)
+    : soup_(soup), runs_(std::move(runs)), grids_(runs_.size()) {
+    boxes_.reserve(runs_.size());
+    for (const SegmentRange& r : runs_) {
+        boxes_.push_back(grown_box(soup, 0.0, r));
+        frame_.add(boxes_.back());
+    }
+}
+
+RunCrossings::~RunCrossings() = default;
+
+const SegmentGrid& RunCrossings::grid(size_t r) {
+    if (!grids_[r]) grids_[r] = std::make_unique<SegmentGrid>(soup_, 0.0, frame_, runs_[r].first, runs_[r].last);
+    return *grids_[r];
+}
+
+void RunCrossings::between(size_t r, size_t s, const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
+    const SegmentRange a = runs_[r], b = runs_[s];
+    if (a.last <= a.first || b.last <= b.first || !boxes_meet(boxes_[r], boxes_[s]) ||
+        every_pair_between(soup_, a, b, visit))
+        return;
+    grids_between(soup_, grid(r), a, boxes_[r], grid(s), b, boxes_[s], visit);
 }
 
 void for_each_box_overlap(const SegmentSoup& soup, const std::function<void(std::uint32_t, std::uint32_t)>& visit) {

@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <utility>
@@ -96,6 +97,29 @@ void for_each_box_overlap(const SegmentSoup& soup, const std::function<void(std:
 /// of sets that are apart, never true of sets that meet: with a margin far above the
 /// rounding of the projections (1e-9 of the coordinates' size, say), it serves as proof.
 bool hulls_apart(std::span<const Vec2> a, std::span<const Vec2> b, double margin);
+
+/// Runs of one soup, tested two at a time (for_each_crossing_between) with each run's grid
+/// made once, when first asked for, in a frame common to all runs: a strip of thin layers that
+/// faces a dozen others is put in a grid once rather than a dozen times.
+class RunCrossings {
+public:
+    RunCrossings(const SegmentSoup& soup, std::vector<SegmentRange> runs);
+    ~RunCrossings();
+    RunCrossings(const RunCrossings&) = delete;
+    RunCrossings& operator=(const RunCrossings&) = delete;
+
+    /// for_each_crossing_between(soup, runs[r], runs[s], visit).
+    void between(size_t r, size_t s, const std::function<void(std::uint32_t, std::uint32_t)>& visit);
+
+private:
+    const SegmentGrid& grid(size_t r);
+
+    const SegmentSoup& soup_;
+    std::vector<SegmentRange> runs_;
+    std::vector<Box> boxes_;
+    Box frame_;
+    std::vector<std::unique_ptr<SegmentGrid>> grids_;
+};
 
 /// The crossing pair (i, j), i < j, with the smallest i (then j), if any.
 std::optional<std::pair<std::uint32_t, std::uint32_t>> find_crossing(const SegmentSoup& soup);

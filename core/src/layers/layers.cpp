@@ -1122,8 +1122,11 @@ private:
         };
         detail::for_each_crossing(tested, {0, others}, cut_both);
         detail::for_each_crossing_between(tested, {others, start.back()}, {0, others}, cut_both);
+        std::vector<detail::SegmentRange> runs(strips);
+        for (std::uint32_t k = 0; k < strips; ++k) runs[k] = {start[k], start[k + 1]};
+        detail::RunCrossings facing_runs(tested, std::move(runs));
         for (const auto& [s, t] : facing)
-            if (proven(s) && proven(t)) detail::for_each_crossing_between(tested, {start[s], start[s + 1]}, {start[t], start[t + 1]}, cut_both);
+            if (proven(s) && proven(t)) facing_runs.between(s, t, cut_both);
         // A boundary point strictly inside a cell crosses none of its edges: an embedded
         // line that leaves a wall's corner at a shallow angle and ends within the first layer,
         // or a small hole inside a thick one. The cell's top corners go (the cell with them).
