@@ -156,20 +156,18 @@ namespace {
 bool every_pair_between(const SegmentSoup& soup, SegmentRange a, SegmentRange b,
                         const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
     if (static_cast<std::uint64_t>(a.last - a.first) * (b.last - b.first) > kBetweenEveryPair) return false;
-    {
-        // The shorter run's boxes made once (it holds at most 64 segments).
-        const bool a_shorter = a.last - a.first <= b.last - b.first;
-        const SegmentRange shorter = a_shorter ? a : b, longer = a_shorter ? b : a;
-        std::array<Box, 64> boxes;
-        for (std::uint32_t i = shorter.first; i < shorter.last; ++i) boxes[i - shorter.first] = segment_box(soup, i);
-        for (std::uint32_t j = longer.first; j < longer.last; ++j) {
-            const Box bj = segment_box(soup, j);
-            for (std::uint32_t i = shorter.first; i < shorter.last; ++i)
-                if (boxes_meet(boxes[i - shorter.first], bj) && segments_cross(soup, i, j)) {
-                    if (a_shorter) visit(i, j);
-                    else visit(j, i);
-                }
-        }
+    // The shorter run's boxes made once (it holds at most 64 segments).
+    const bool a_shorter = a.last - a.first <= b.last - b.first;
+    const SegmentRange shorter = a_shorter ? a : b, longer = a_shorter ? b : a;
+    std::array<Box, 64> boxes;
+    for (std::uint32_t i = shorter.first; i < shorter.last; ++i) boxes[i - shorter.first] = segment_box(soup, i);
+    for (std::uint32_t j = longer.first; j < longer.last; ++j) {
+        const Box bj = segment_box(soup, j);
+        for (std::uint32_t i = shorter.first; i < shorter.last; ++i)
+            if (boxes_meet(boxes[i - shorter.first], bj) && segments_cross(soup, i, j)) {
+                if (a_shorter) visit(i, j);
+                else visit(j, i);
+            }
     }
     return true;
 }
@@ -203,12 +201,7 @@ void grids_between(const SegmentSoup& soup, const SegmentGrid& grid_a, SegmentRa
 
 void for_each_crossing_between(const SegmentSoup& soup, SegmentRange a, SegmentRange b,
                                const std::function<void(std::uint32_t, std::uint32_t)>& visit) {
-    if (a.last <= a.first || b.last <= b.first || every_pair_between(soup, a, b, visit)) return;
-    const Box box_a = grown_box(soup, 0.0, a), box_b = grown_box(soup, 0.0, b);
-    Box frame = box_a;
-    frame.add(box_b);
-    const SegmentGrid grid_a(soup, 0.0, frame, a.first, a.last), grid_b(soup, 0.0, frame, b.first, b.last);
-    grids_between(soup, grid_a, a, box_a, grid_b, b, box_b, visit);
+    RunCrossings(soup, {a, b}).between(0, 1, visit);
 }
 
 RunCrossings::RunCrossings(const SegmentSoup& soup, std::vector<SegmentRange> runs)
