@@ -81,9 +81,10 @@ struct SegmentRange {
 void for_each_crossing(const SegmentSoup& soup, SegmentRange run, const std::function<void(std::uint32_t, std::uint32_t)>& visit);
 
 /// Calls visit(i, j) for every i of run a and j of run b (two runs that do not overlap) that
-/// share a point, as for_each_crossing tells them, each pair once (i always a's). Segments of the same run
-/// are never looked at together: where a run's own segments crowd its grid's cells (dozens of
-/// thin layers' rungs over one column), only the other run's segments pay for the crowd.
+/// share a point, as for_each_crossing tells them, each pair once (i always a's). Segments of
+/// the same run are never looked at together: where a run's own segments crowd its grid's
+/// cells (dozens of thin layers' rungs over one column), only the other run's segments pay
+/// for the crowd.
 void for_each_crossing_between(const SegmentSoup& soup, SegmentRange a, SegmentRange b,
                                const std::function<void(std::uint32_t, std::uint32_t)>& visit);
 

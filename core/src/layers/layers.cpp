@@ -1089,14 +1089,17 @@ private:
         auto proven = [&](std::uint32_t strip) { return strip != kAny && suspect[strip] && !bad[strip]; };
         // The strip each segment goes with: a boundary segment with none unless it is a side
         // of a sliding column (its strip's, like a straight column's edges).
-        auto strip_at = [&](size_t i) {
-            if (i >= boundary) return strip_of[i - boundary];
-            const auto it = sliding.find(key(soup.segments[i][0], soup.segments[i][1]));
-            return it == sliding.end() ? kAny : it->second;
-        };
+        std::vector<std::uint32_t> strip_at(soup.segments.size(), kAny);
+        for (size_t i = 0; i < soup.segments.size(); ++i) {
+            if (i >= boundary) {
+                strip_at[i] = strip_of[i - boundary];
+            } else if (const auto it = sliding.find(key(soup.segments[i][0], soup.segments[i][1])); it != sliding.end()) {
+                strip_at[i] = it->second;
+            }
+        }
         std::vector<std::uint32_t> start(strips + 1, 0);
         for (size_t i = 0; i < soup.segments.size(); ++i) {
-            const std::uint32_t strip = strip_at(i);
+            const std::uint32_t strip = strip_at[i];
             if (proven(strip)) ++start[strip + 1];
             else if (i < boundary || strip == kAny || suspect[strip]) tested.segments.push_back(soup.segments[i]);
         }
@@ -1106,10 +1109,8 @@ private:
         tested.segments.resize(start.back());
         {
             std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-            for (size_t i = 0; i < soup.segments.size(); ++i) {
-                const std::uint32_t strip = strip_at(i);
-                if (proven(strip)) tested.segments[fill[strip]++] = soup.segments[i];
-            }
+            for (size_t i = 0; i < soup.segments.size(); ++i)
+                if (proven(strip_at[i])) tested.segments[fill[strip_at[i]]++] = soup.segments[i];
         }
         const std::function<void(std::uint32_t, std::uint32_t)> cut_both = [&](std::uint32_t i, std::uint32_t j) {
             for (std::uint32_t s : {i, j}) {
