@@ -653,10 +653,11 @@ TEST(HugePages, AnArrayStartsOnAHugePageAndPopulateMakesItsPagesAtOnce) {
 }
 
 // Freed large blocks serve the next large allocations of the same thread inside a
-// BlockReuse: the same pages, cut down or grown to the size asked. The blocks kept never
-// take the thread's large blocks above the most that were live at once, the outermost scope
-// returns them, and nothing is kept outside a scope or from another thread. (The expected
-// figures follow from the rules in memory.hpp, step by step.)
+// BlockReuse: the same pages, a kept block cut to the size asked (its rest kept), or kept
+// blocks gathered into one, their pages moved, with fresh pages only for what they do not
+// cover. The blocks kept never take the thread's large blocks above the most that were live at
+// once, the outermost scope returns them, and nothing is kept outside a scope or from another
+// thread. (The expected figures follow from the rules in memory.hpp, step by step.)
 TEST(BlockReuse, FreedBlocksServeTheNextAllocationsAndNeverRaiseThePeak) {
     constexpr std::size_t MiB = std::size_t{1} << 20;
     constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
@@ -676,74 +677,101 @@ TEST(BlockReuse, FreedBlocksServeTheNextAllocationsAndNeverRaiseThePeak) {
         EXPECT_FALSE(mapped(at));
     }
 
-    const char* grown_at = nullptr;
+    const char* kept_at = nullptr;
     {
         const detail::BlockReuse scope;
         const auto start = counters();
-        Bytes a(64 * MiB, 'a');  // live 64: the most so far
-        const char* at = a.data();
-        Bytes().swap(a);  // kept 64
+        auto reused = [&] { return counters().reused_bytes - start.reused_bytes; };
+        auto fresh = [&] { return counters().mapped_bytes - start.mapped_bytes; };
+        // The test's own account: its live blocks and the most live at once, which the live
+        // and kept blocks together must never exceed.
+        std::size_t live = 0, most = 0;
+        auto take = [&](std::size_t mib) {
+            live += mib * MiB;
+            most = std::max(most, live);
+        };
+        auto give = [&](Bytes& v) {
+            live -= v.size();
+            Bytes().swap(v);
+        };
+        auto within_the_peak = [&] { return live + counters().kept_bytes <= most; };
+
+        Bytes a(64 * MiB, 'a');  // fresh: live 64
+        take(64);
+        const char* A = a.data();
+        give(a);  // kept: 64 at A
         EXPECT_EQ(counters().kept_bytes, 64 * MiB);
-        EXPECT_TRUE(mapped(at));
+        EXPECT_TRUE(mapped(A));
 
-        // A smaller block takes it, cut down: its tail goes back at once.
-        Bytes b(40 * MiB);  // live 40, kept 0
-        EXPECT_EQ(b.data(), at);
-        EXPECT_EQ(counters().kept_bytes, 0u);
-        EXPECT_FALSE(mapped(at + 40 * MiB));
-        EXPECT_EQ(counters().reused_bytes - start.reused_bytes, 40 * MiB);
+        // A smaller block takes the front of it; the rest stays kept, its pages made.
+        Bytes b(40 * MiB);  // live 40, kept 24 at A + 40
+        take(40);
+        EXPECT_EQ(b.data(), A);
+        EXPECT_EQ(counters().kept_bytes, 24 * MiB);
+        EXPECT_TRUE(mapped(A + 40 * MiB));
+        EXPECT_EQ(reused(), 40 * MiB);
+        EXPECT_TRUE(within_the_peak());
 
-        // A larger block grows the largest kept one: only its new part is fresh.
-        Bytes c(8 * MiB);  // fresh: live 48
-        const char* c_at = c.data();
-        Bytes().swap(c);   // live 40, kept 8
-        Bytes d(20 * MiB);  // the 8 grown to 20: live 60, kept 0
-        EXPECT_EQ(address(d.data()) % kHuge, 0u);
-        EXPECT_FALSE(mapped(c_at));  // moved, pages and all
+        // A block larger than any kept one gathers them: their pages move to it, and only
+        // what they do not cover is fresh.
+        Bytes c(32 * MiB);  // the 24 moved, 8 fresh: live 72, kept 0
+        take(32);
+        EXPECT_EQ(address(c.data()) % kHuge, 0u);
+        EXPECT_FALSE(mapped(A + 40 * MiB));  // moved, pages and all
         EXPECT_EQ(counters().kept_bytes, 0u);
-        EXPECT_EQ(counters().reused_bytes - start.reused_bytes, 48 * MiB);
-        EXPECT_EQ(counters().mapped_bytes - start.mapped_bytes, (64 + 8 + 12) * MiB);
+        EXPECT_EQ(reused(), 64 * MiB);
+        EXPECT_EQ(fresh(), (64 + 8) * MiB);
+        c[0] = 'c';
+        c[32 * MiB - 1] = 'c';  // every byte of it is there (ASan and the kernel would say)
+        const char* C = c.data();
+
+        // Several kept blocks, the largest first, the last only in part.
+        give(c);
+        give(b);  // kept: 32 at C, 40 at A; live 0
+        Bytes d(50 * MiB);  // the 40 and 10 of the 32: live 50, kept 22 at C + 10, nothing fresh
+        take(50);
+        EXPECT_FALSE(mapped(A));
+        EXPECT_FALSE(mapped(C));
+        EXPECT_TRUE(mapped(C + 10 * MiB));
+        EXPECT_EQ(counters().kept_bytes, 22 * MiB);
+        EXPECT_EQ(reused(), (64 + 50) * MiB);
+        EXPECT_EQ(fresh(), 72 * MiB);
         d[0] = 'd';
-        d[20 * MiB - 1] = 'd';  // every byte of it is there (ASan and the kernel would say)
+        d[50 * MiB - 1] = 'd';
+        EXPECT_TRUE(within_the_peak());
 
         // A nested scope keeps nothing of its own and returns nothing when it ends.
         {
             const detail::BlockReuse inner;
-            Bytes().swap(d);  // live 40, kept 20
+            give(d);  // kept 22 and 50
         }
-        EXPECT_EQ(counters().kept_bytes, 20 * MiB);
+        EXPECT_EQ(counters().kept_bytes, 72 * MiB);
+        EXPECT_TRUE(within_the_peak());
 
-        // The bound. With b gone too (live 0, kept 20 and 40; the most live so far 64), two
-        // of 30 come from kept pages: the 40 cut to 30, the 20 grown to 30 (live 60).
-        Bytes().swap(b);
-        EXPECT_EQ(counters().kept_bytes, 60 * MiB);
-        Bytes f(30 * MiB), g(30 * MiB);
+        // The smallest kept block that holds it, then a gathering of the rest: nothing fresh
+        // while the kept blocks cover the size, then fresh pages only for what is past them.
+        Bytes e(30 * MiB);  // the front of the 50: live 30, kept 22 and 20
+        take(30);
+        Bytes f(30 * MiB);  // the 22 and 8 of the 20: live 60, kept 12
+        take(30);
+        EXPECT_EQ(counters().kept_bytes, 12 * MiB);
+        EXPECT_EQ(fresh(), 72 * MiB);
+        EXPECT_TRUE(within_the_peak());
+        Bytes g(40 * MiB);  // the 12 and 28 fresh: live 100, the most, kept 0
+        take(40);
         EXPECT_EQ(counters().kept_bytes, 0u);
-        EXPECT_EQ(counters().mapped_bytes - start.mapped_bytes, (64 + 8 + 12 + 10) * MiB);
-        // Both go (kept 60); one of 70 grows a 30 (live 70, the most now), and the other 30
-        // would take the thread to 100: it goes back.
-        Bytes().swap(f);
-        Bytes().swap(g);
-        Bytes h(70 * MiB);
-        EXPECT_EQ(counters().kept_bytes, 0u);
-        // Where the excess is smaller than the smallest kept block, that block is cut.
-        Bytes i(10 * MiB);  // fresh: live 80, the most
-        Bytes().swap(h);    // live 10, kept 70
-        Bytes m(20 * MiB);  // the 70 cut to 20: live 30, kept 0
-        Bytes n(10 * MiB);  // fresh: live 40
-        Bytes().swap(m);
-        Bytes().swap(n);    // live 10, kept 20 and 10
-        Bytes p(64 * MiB);  // the 20 grown to 64: live 74, kept 10, 4 over the most: cut to 6
-        EXPECT_EQ(counters().kept_bytes, 6 * MiB);
-        grown_at = p.data();
-        Bytes().swap(p);
-        Bytes().swap(i);
-        EXPECT_EQ(counters().kept_bytes, 80 * MiB);
-        EXPECT_TRUE(mapped(grown_at));
+        EXPECT_EQ(fresh(), 100 * MiB);
+        kept_at = g.data();
+        give(e);
+        give(f);
+        give(g);
+        EXPECT_EQ(counters().kept_bytes, 100 * MiB);
+        EXPECT_TRUE(within_the_peak());
+        EXPECT_TRUE(mapped(kept_at));
     }
     // The outermost scope returned everything.
     EXPECT_EQ(counters().kept_bytes, 0u);
-    EXPECT_FALSE(mapped(grown_at));
+    EXPECT_FALSE(mapped(kept_at));
 
     // A block freed on another thread is not this thread's to keep.
     {
@@ -789,10 +817,16 @@ TEST(BlockReuse, AddressSanitizerWatchesTheLargeBlocks) {
     EXPECT_TRUE(poisoned(at));
     EXPECT_TRUE(poisoned(at + 2 * MiB));
 
-    Bytes b(2 * MiB);  // the kept block, cut to one huge page; its second one unmapped
+    Bytes b(2 * MiB);  // the kept block's first huge page; its second one stays kept
     ASSERT_EQ(b.data(), at);
     EXPECT_FALSE(poisoned(at));
     EXPECT_FALSE(poisoned(at + 2 * MiB - 1));
-    EXPECT_FALSE(poisoned(at + 2 * MiB));
+    EXPECT_TRUE(poisoned(at + 2 * MiB));
+    EXPECT_EQ(detail::block_counters().kept_bytes, 2 * MiB);
+
+    Bytes c(4 * MiB);  // the kept page moved to a new block of two, the second one fresh
+    EXPECT_FALSE(poisoned(c.data()));
+    EXPECT_FALSE(poisoned(c.data() + 4 * MiB - 1));
+    EXPECT_FALSE(poisoned(at + 2 * MiB));  // no longer mapped there: left clean
 }
 #endif

@@ -143,20 +143,6 @@ char* map_fresh(std::size_t size) {
     return at;
 }
 
-// Block b grown to `size`: moved with its pages to a new place at a 2 MiB boundary, its new
-// part fresh. Null (b untouched) where the kernel refuses.
-char* grow(Block b, std::size_t size) {
-    char* at = map_aligned(size, PROT_NONE, MAP_NORESERVE);
-    if (at == nullptr) return nullptr;
-    if (mremap(b.at, b.size, size, MREMAP_MAYMOVE | MREMAP_FIXED, at) == MAP_FAILED) {
-        munmap(at, size);
-        return nullptr;
-    }
-    mark_usable(b.at, b.size);  // no longer mapped there
-    advise_block(at, size);
-    return at;
-}
-
 Block take_kept(std::size_t i) {
     const Block b = reuse.kept[i];
     reuse.kept[i] = reuse.kept[--reuse.count];
@@ -169,6 +155,45 @@ std::size_t smallest_kept() {
     for (std::size_t i = 1; i < reuse.count; ++i)
         if (reuse.kept[i].size < reuse.kept[best].size) best = i;
     return best;
+}
+
+// A block of `size` bytes made of kept blocks, the largest first, each moved with its pages
+// into the next part of a new place at a 2 MiB boundary (the last one only in part, its rest
+// staying kept), and fresh pages for what they do not cover. Null (nothing moved) where the
+// kernel will not make the place.
+char* gather(std::size_t size) {
+    char* at = map_aligned(size, PROT_NONE, MAP_NORESERVE);
+    if (at == nullptr) return nullptr;
+    std::size_t filled = 0;
+    while (filled < size && reuse.count > 0) {
+        std::size_t largest = 0;
+        for (std::size_t i = 1; i < reuse.count; ++i)
+            if (reuse.kept[i].size > reuse.kept[largest].size) largest = i;
+        Block& b = reuse.kept[largest];
+        const std::size_t part = std::min(b.size, size - filled);
+        if (mremap(b.at, part, part, MREMAP_MAYMOVE | MREMAP_FIXED, at + filled) == MAP_FAILED) break;
+        mark_usable(b.at, part);  // no longer mapped there
+        reuse.counters.reused_bytes += part;
+        filled += part;
+        if (part == b.size) {
+            take_kept(largest);
+        } else {
+            b.at += part;
+            b.size -= part;
+            reuse.counters.kept_bytes -= part;
+        }
+    }
+    if (filled < size) {
+        // The reservation's rest made writable: fresh pages.
+        if (mmap(at + filled, size - filled, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED, -1,
+                 0) == MAP_FAILED) {
+            munmap(at, size);
+            throw std::bad_alloc();
+        }
+        reuse.counters.mapped_bytes += size - filled;
+    }
+    advise_block(at, size);
+    return at;
 }
 
 // Kept blocks returned, the smallest first (the last one only cut), until the large blocks
@@ -195,24 +220,26 @@ void trim_kept() {
 void* allocate_large(std::size_t size) {
     char* at = nullptr;
     if (reuse.depth > 0 && reuse.count > 0) {
-        // The kept block nearest above the size, else the largest.
-        std::size_t fit = reuse.count, largest = 0;
+        // The kept block nearest above the size, cut down to it (its rest stays kept: its
+        // pages are made already, where fresh ones are not); else kept blocks gathered.
+        std::size_t fit = reuse.count;
         for (std::size_t i = 0; i < reuse.count; ++i) {
             const std::size_t s = reuse.kept[i].size;
             if (s >= size && (fit == reuse.count || s < reuse.kept[fit].size)) fit = i;
-            if (s > reuse.kept[largest].size) largest = i;
         }
-        const std::size_t pick = fit < reuse.count ? fit : largest;
-        const Block b = take_kept(pick);
-        if (b.size >= size) {
-            if (b.size > size) unmap(b.at + size, b.size - size);
+        if (fit < reuse.count) {
+            Block& b = reuse.kept[fit];
             at = b.at;
+            if (b.size > size) {
+                b.at += size;
+                b.size -= size;
+                reuse.counters.kept_bytes -= size;
+            } else {
+                take_kept(fit);
+            }
             reuse.counters.reused_bytes += size;
-        } else if ((at = grow(b, size)) != nullptr) {
-            reuse.counters.reused_bytes += b.size;
-            reuse.counters.mapped_bytes += size - b.size;
         } else {
-            unmap(b.at, b.size);
+            at = gather(size);
         }
     }
     if (at == nullptr) at = map_fresh(size);

@@ -39,8 +39,11 @@ void populate(void* p, std::size_t bytes);
 /// for pages the guest still holds). While a BlockReuse lives, the blocks of 1 MiB or more
 /// (each a mapping of its own) that its thread frees through deallocate_huge are kept, and
 /// the thread's next large allocations take them instead: the one nearest above the size
-/// asked, cut down to it; else the largest, grown to it (moved with its pages: only its new
-/// part is fresh).
+/// asked, cut to it (its rest stays kept); else kept blocks gathered into one, the largest
+/// first, each moved with its pages (the last perhaps in part): only what they do not cover
+/// is fresh. (At 10^7 points the triangulation's two arrays of triangles, 536 MiB each, had
+/// grown the largest kept block each and taken 538 MiB of fresh pages with them while 436
+/// MiB of smaller kept blocks waited; the rests of cut blocks had been unmapped.)
 ///
 /// What is kept is bounded: the large blocks live and kept together never exceed the most
 /// that were live at once since the scope began, and what would is returned at once. (Live

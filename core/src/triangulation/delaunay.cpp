@@ -130,11 +130,19 @@ public:
                 v = rank_[v];
             }
         }
-        detail::order_by_largest_corner(tris_, n_, gone.data());
         TriangulationResult r;
-        r.triangles = std::move(tris_);
         r.alias.resize(n_);
         for (size_t i = 0; i < n_; ++i) r.alias[i] = rank_[alias_[inverse_[i]]];
+        // Nothing else is needed now but the triangles: the points, the soup's index and the
+        // orders go before the ordered copy of the triangles is made, whose block they serve
+        // (at 10^7 points 320 MB of the copy's 560 that would otherwise be fresh pages).
+        soup_.reset();
+        Array<Vec2>().swap(pts_);
+        Array<std::uint32_t>().swap(rank_);
+        Array<std::uint32_t>().swap(inverse_);
+        Array<std::uint32_t>().swap(alias_);
+        detail::order_by_largest_corner(tris_, n_, gone.data());
+        r.triangles = std::move(tris_);
         r.stats = stats_;
         return r;
     }
