@@ -50,8 +50,9 @@ void populate(void* p, std::size_t bytes);
 /// blocks count whole, reserved pages untouched or not, where a kept block's pages are mostly
 /// made: the resident peak can come out a little higher than with every block unmapped when
 /// freed; it was 1,722 MB against 1,679 at 10^7 points when only whole blocks were kept, and
-/// is 1,560 MB since the rests and gatherings.) The outermost BlockReuse on a thread returns what is kept when it ends; nested
-/// ones do nothing. Blocks freed on another thread, or outside any scope, are unmapped.
+/// is 1,560 MB since the rests and gatherings.) The outermost BlockReuse on a thread returns
+/// what is kept when it ends; nested ones do nothing. Blocks freed on another thread, or
+/// outside any scope, are unmapped.
 ///
 /// Under AddressSanitizer a block's bytes past those asked for and a kept block's are
 /// poisoned, so overruns and uses after free are reported as in malloc's blocks.
