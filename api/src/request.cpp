@@ -404,6 +404,9 @@ void options(const json& o, MeshRequest& r) {
         const double a = number(o["min_angle_deg"], ptr + "/min_angle_deg");
         if (a < 0.0 || a > 34.0) fail(ptr + "/min_angle_deg", "min_angle_deg must be between 0 and 34");
         r.options.min_angle_deg = a;
+        // 0 asked in so many words is the contract's "off, the paper's pure method": not even
+        // the defaults' last resort for 30 degrees (which an absent member keeps).
+        r.options.sharp_last_resort = a > 0.0;
     }
 }
 

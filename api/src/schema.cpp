@@ -136,7 +136,12 @@ json request() {
               {"max_points", {{"type", "integer"}, {"minimum", 1}, {"maximum", static_cast<long long>(core::kMaxPointsLimit)}}},
               {"timeout_s", {{"type", "number"}, {"minimum", 0}, {"exclusiveMinimum", true}}},
               {"min_angle_deg",
-               {{"type", "number"}, {"minimum", 0}, {"maximum", 34}, {"default", 0}}},
+               {{"type", "number"},
+                {"description",
+                 "refine until no angle is below this; absent: only the defaults' last resort for 30 degrees "
+                 "(a few meshes in 100,000); 0: no refinement at all (the paper's method)"},
+                {"minimum", 0},
+                {"maximum", 34}}},
               {"order",
                {{"type", "integer"},
                 {"description", "2: 6-node triangles, their edge nodes on the curves (not for su2 and foam)"},

@@ -72,6 +72,27 @@ TEST(Request, ReversedCurvesAndOptions) {
     EXPECT_GT(m.mesh.triangles.size(), 0u);
 }
 
+// The contract's min_angle_deg: 0 asked is "off, the paper's pure method", so it turns the
+// defaults' last resort for 30 degrees off too; an absent member keeps the defaults, and a
+// bound asked keeps the last resort under it (the mesh still gets 30 where it needs it).
+TEST(Request, MinAngleZeroAskedTurnsEveryRefinementOff) {
+    auto parsed = [](const std::string& options) {
+        return api::parse_request(R"({"geometry": {"points": {"A": [0,0], "B": [1,0], "C": [0,1]},
+            "curves": {"ab": {"type": "line", "from": "A", "to": "B"}, "bc": {"type": "line", "from": "B", "to": "C"},
+                       "ca": {"type": "line", "from": "C", "to": "A"}},
+            "loops": [["ab", "bc", "ca"]]}, "density": {"size": 0.2}, "options": )" + options + "}");
+    };
+    const api::MeshRequest absent = parsed("{}");
+    EXPECT_EQ(absent.options.min_angle_deg, 0.0);
+    EXPECT_TRUE(absent.options.sharp_last_resort);
+    const api::MeshRequest zero = parsed(R"({"min_angle_deg": 0})");
+    EXPECT_EQ(zero.options.min_angle_deg, 0.0);
+    EXPECT_FALSE(zero.options.sharp_last_resort);
+    const api::MeshRequest twenty = parsed(R"({"min_angle_deg": 20})");
+    EXPECT_EQ(twenty.options.min_angle_deg, 20.0);
+    EXPECT_TRUE(twenty.options.sharp_last_resort);
+}
+
 TEST(Request, CatalogueOfBadRequests) {
     const auto cat = nlohmann::ordered_json::parse(read_file(MESHD_SOURCE_DIR "/tests/data/bad_requests.json"));
     ASSERT_GE(cat["cases"].size(), 40u);

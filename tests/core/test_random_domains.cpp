@@ -397,6 +397,15 @@ TEST(RandomDomains, ATriangleTheRepairLeavesSharpIsRefinedToThirtyDegrees) {
     // A lower bound asked does not take the defaults' 30 degrees away.
     asked.min_angle_deg = 20.0;
     EXPECT_TRUE(same_mesh(r.mesh, generate_mesh(lc.domain, lc.rc.density, asked).mesh));
+    // With the last resort off (a request's explicit min_angle_deg 0) nothing is refined:
+    // the repair's 29.6 degrees stay, and the mesh is still valid.
+    MeshOptions off = lc.options;
+    off.sharp_last_resort = false;
+    const MeshResult o = generate_mesh(lc.domain, lc.rc.density, off);
+    EXPECT_EQ(o.stats.refinement_points, 0u);
+    EXPECT_TRUE(check_mesh(o.mesh, false).empty());
+    EXPECT_LT(smallest_free_angle(o.mesh).first, 30.0);
+    EXPECT_LT(o.mesh.point_count(), r.mesh.point_count());
     const LayeredCase fine = layered_case(148);
     const MeshResult f = generate_mesh(fine.domain, fine.rc.density, fine.options);
     EXPECT_GE(smallest_free_angle(f.mesh).first, 30.0);

@@ -525,13 +525,15 @@ MeshResult generate_mesh(const Domain& domain, const DensitySpec& density, const
     // 30 away). Two meshes in 68,818 of the random domains' census with layers needed it (seed
     // 146694, a triangle of the isotropic part at 29.6 degrees; seed 145352, 25.3 degrees in a
     // gap between two holes' layers, mended by the refinement's point beside a sharp corner);
-    // every other mesh is left as it was.
+    // every other mesh is left as it was. Not with sharp_last_resort off (the request's
+    // explicit min_angle_deg 0).
     // A mesh with no angle below 30 degrees has no sharp triangle: where nothing is added to
     // the mesh after this (no layers, first order), its figures are measured here, once, and
     // spare any_sharp's pass over every triangle on the meshes that need no last resort.
     std::optional<QualityMetrics> measured;
     bool last_resort = false;
-    if (options.curve_agreement && options.smoothing_iterations > 0 && options.min_angle_deg < kSharpAngleDeg) {
+    if (options.sharp_last_resort && options.curve_agreement && options.smoothing_iterations > 0 &&
+        options.min_angle_deg < kSharpAngleDeg) {
         // (A density that fails at some edge's middle is left to the figures at the end: the
         // refinement may split that edge.)
         if (!layers && options.order == 1) {
