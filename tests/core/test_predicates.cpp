@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -22,6 +23,7 @@ namespace {
 // Exact sign for points that are integers times 2^-k (all of ours: coordinates near 0.5..24
 // are multiples of 2^-53). Uses 128-bit integers.
 __extension__ typedef __int128 Int128;
+__extension__ typedef unsigned __int128 UInt128;
 
 int exact_sign(Vec2 a, Vec2 b, Vec2 c, int shift = 53) {
     auto to_int = [shift](double v) { return static_cast<Int128>(std::ldexp(v, shift)); };
@@ -30,6 +32,116 @@ int exact_sign(Vec2 a, Vec2 b, Vec2 c, int shift = 53) {
     // Differences first keeps the products within 128 bits here.
     const Int128 det = (ax - cx) * (by - cy) - (ay - cy) * (bx - cx);
     return (det > 0) - (det < 0);
+}
+
+// A signed integer of any size (32-bit limbs, least significant first), enough for the
+// incircle determinant of doubles brought to one scale: the oracle of the exact stage.
+struct Big {
+    bool negative = false;
+    std::vector<std::uint32_t> limbs;  // no leading zero limb; empty is zero
+
+    static Big from(std::uint64_t m, int shift) {  // m 2^shift, shift >= 0
+        Big r;
+        std::vector<std::uint32_t> l(static_cast<size_t>(shift / 32) + 3, 0);
+        const unsigned bits = static_cast<unsigned>(shift % 32);
+        const auto wide = static_cast<UInt128>(m) << bits;
+        for (size_t i = 0; i < 3; ++i) l[static_cast<size_t>(shift / 32) + i] = static_cast<std::uint32_t>(wide >> (32 * i));
+        r.limbs = std::move(l);
+        r.trim();
+        return r;
+    }
+    void trim() {
+        while (!limbs.empty() && limbs.back() == 0) limbs.pop_back();
+        if (limbs.empty()) negative = false;
+    }
+    static int compare_magnitude(const Big& x, const Big& y) {
+        if (x.limbs.size() != y.limbs.size()) return x.limbs.size() < y.limbs.size() ? -1 : 1;
+        for (size_t i = x.limbs.size(); i-- > 0;)
+            if (x.limbs[i] != y.limbs[i]) return x.limbs[i] < y.limbs[i] ? -1 : 1;
+        return 0;
+    }
+    static Big add_magnitudes(const Big& x, const Big& y) {
+        Big r;
+        std::uint64_t carry = 0;
+        for (size_t i = 0; i < std::max(x.limbs.size(), y.limbs.size()) || carry; ++i) {
+            const std::uint64_t s = carry + (i < x.limbs.size() ? x.limbs[i] : 0) + (i < y.limbs.size() ? y.limbs[i] : 0);
+            r.limbs.push_back(static_cast<std::uint32_t>(s));
+            carry = s >> 32;
+        }
+        r.trim();
+        return r;
+    }
+    static Big subtract_magnitudes(const Big& x, const Big& y) {  // |x| >= |y|
+        Big r;
+        std::int64_t borrow = 0;
+        for (size_t i = 0; i < x.limbs.size(); ++i) {
+            std::int64_t d = static_cast<std::int64_t>(x.limbs[i]) - borrow - (i < y.limbs.size() ? y.limbs[i] : 0);
+            borrow = d < 0 ? 1 : 0;
+            if (d < 0) d += std::int64_t{1} << 32;
+            r.limbs.push_back(static_cast<std::uint32_t>(d));
+        }
+        r.trim();
+        return r;
+    }
+    friend Big operator-(Big x) {
+        if (!x.limbs.empty()) x.negative = !x.negative;
+        return x;
+    }
+    friend Big operator+(const Big& x, const Big& y) {
+        if (x.negative == y.negative) {
+            Big r = add_magnitudes(x, y);
+            r.negative = x.negative && !r.limbs.empty();
+            return r;
+        }
+        const bool x_larger = compare_magnitude(x, y) >= 0;
+        Big r = x_larger ? subtract_magnitudes(x, y) : subtract_magnitudes(y, x);
+        r.negative = (x_larger ? x.negative : y.negative) && !r.limbs.empty();
+        return r;
+    }
+    friend Big operator-(const Big& x, const Big& y) { return x + -y; }
+    friend Big operator*(const Big& x, const Big& y) {
+        Big r;
+        r.limbs.assign(x.limbs.size() + y.limbs.size(), 0);
+        for (size_t i = 0; i < x.limbs.size(); ++i) {
+            std::uint64_t carry = 0;
+            for (size_t j = 0; j < y.limbs.size() || carry; ++j) {
+                const std::uint64_t t = r.limbs[i + j] + carry +
+                                        (j < y.limbs.size() ? static_cast<std::uint64_t>(x.limbs[i]) * y.limbs[j] : 0);
+                r.limbs[i + j] = static_cast<std::uint32_t>(t);
+                carry = t >> 32;
+            }
+        }
+        r.negative = x.negative != y.negative;
+        r.trim();
+        return r;
+    }
+    int sign() const { return limbs.empty() ? 0 : (negative ? -1 : 1); }
+};
+
+// The sign of the incircle determinant of a, b, c, d, the same expression as the predicate's
+// (the lifts times the 2x2 minors of the differences to d), in exact integers: every
+// coordinate is m 2^e, brought to the least e among the eight.
+int exact_incircle_sign(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+    const double v[8] = {a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y};
+    int least = 1 << 20;
+    for (double x : v)
+        if (x != 0.0) least = std::min(least, std::ilogb(x) - 52);
+    std::vector<Big> n;
+    for (double x : v) {
+        if (x == 0.0) {
+            n.emplace_back();
+            continue;
+        }
+        const int e = std::ilogb(x) - 52;
+        const auto m = static_cast<std::uint64_t>(std::fabs(std::ldexp(x, -e)));  // exact: 53 bits
+        Big r = Big::from(m, e - least);
+        r.negative = x < 0.0;
+        n.push_back(r);
+    }
+    const Big adx = n[0] - n[6], ady = n[1] - n[7], bdx = n[2] - n[6], bdy = n[3] - n[7], cdx = n[4] - n[6], cdy = n[5] - n[7];
+    const Big det = (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) + (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy) +
+                    (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
+    return det.sign();
 }
 
 int naive_sign(Vec2 a, Vec2 b, Vec2 c) {
@@ -99,6 +211,57 @@ TEST(Predicates, OrientMatchesExactArithmeticOnRandomNearCollinearInput) {
 // fmax_inline and fmin_inline against the maths library's fmax and fmin, bit for bit: NaNs
 // on either side, zeros of both signs, infinities, subnormals and random values, each pair
 // both ways round.
+// The exact stage of incircle, where the filter fails: four points of one circle (cos and
+// sin, so cocircular to within rounding), circles far from the origin and across it (where
+// the differences to d are not exact doubles and the stage takes its general path), lattice
+// points exactly on a circle (the sign is 0), and points an ulp off those. The oracle is the
+// same determinant in exact integers.
+TEST(Predicates, IncircleExactStageMatchesIntegerArithmetic) {
+    std::mt19937_64 rng(20261207);
+    std::uniform_real_distribution<double> angle(0.0, 6.283185307179586), unit(-1.0, 1.0);
+    int decided = 0, zeros = 0;
+    auto check = [&](Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+        const int expected = exact_incircle_sign(a, b, c, d);
+        EXPECT_EQ(meshd::core::detail::incircle_exact(a, b, c, d), expected)
+            << a.x << "," << a.y << " " << b.x << "," << b.y << " " << c.x << "," << c.y << " " << d.x << "," << d.y;
+        EXPECT_EQ(meshd::core::incircle(a, b, c, d), expected);  // the filter, then the stage
+        ++(expected == 0 ? zeros : decided);
+    };
+    const Vec2 centres[] = {{0, 0}, {0.5, 0.5}, {1e-9, -3e-9}, {1024.0, -7.25}, {3.0e7, 1.0e-3}, {-0.3, 1e-12}};
+    const double radii[] = {1.0, 1e-6, 0.37, 250.0, 1e-12};
+    for (const Vec2 o : centres)
+        for (const double r : radii)
+            for (int k = 0; k < 40; ++k) {
+                Vec2 p[4];
+                for (auto& q : p) {
+                    const double t = angle(rng);
+                    q = {o.x + r * std::cos(t), o.y + r * std::sin(t)};
+                }
+                check(p[0], p[1], p[2], p[3]);
+            }
+    // Lattice points of x^2 + y^2 = 625^2 (the axes' and eight others), scaled by powers
+    // of two and moved by dyadic offsets: exactly cocircular, so 0; one ulp outward or
+    // inward on the fourth point decides the sign.
+    const Vec2 lattice[] = {{625, 0}, {0, 625}, {-625, 0}, {0, -625}, {175, 600}, {-600, 175}, {336, -527}, {-527, -336},
+                            {375, 500}, {-500, -375}, {220, -585}, {-585, 220}};
+    for (const double scale : {1.0, 0x1p-40, 0x1p30})
+        for (const Vec2 shift : {Vec2{0, 0}, Vec2{0x1p-20, -0x1p-18}, Vec2{4096.0, 0.5}})
+            for (size_t i = 0; i + 3 < std::size(lattice); ++i) {
+                auto at = [&](size_t j) { return Vec2{lattice[j].x * scale + shift.x, lattice[j].y * scale + shift.y}; };
+                const Vec2 a = at(i), b = at(i + 1), c = at(i + 2), d = at(i + 3);
+                check(a, b, c, d);
+                check(a, b, c, {std::nextafter(d.x, 2 * d.x), d.y});
+                check(a, b, c, {d.x, std::nextafter(d.y, 0.0)});
+            }
+    // Random quadruples with mixed magnitudes (the differences rarely exact).
+    for (int k = 0; k < 300; ++k) {
+        auto any = [&] { return std::ldexp(unit(rng), static_cast<int>(rng() % 60) - 40); };
+        check({any(), any()}, {any(), any()}, {any(), any()}, {any(), any()});
+    }
+    EXPECT_GT(decided, 1000);
+    EXPECT_GT(zeros, 50);
+}
+
 TEST(Predicates, TheInlineMaxAndMinAreTheLibrarysToTheBit) {
     std::vector<double> v{0.0,      -0.0,      1.0,       -1.0,     HUGE_VAL, -HUGE_VAL, std::nan(""), -std::nan(""),
                           4.9e-324, -4.9e-324, 2.2e-308, 1.7e308, 0.1,      0.1 + 1e-17};

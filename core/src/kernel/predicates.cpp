@@ -11,7 +11,6 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <vector>
 
 namespace meshd::core {
 
@@ -53,80 +52,131 @@ size_t grow(double* e, size_t n, double b) {
 int sign_of(double v) { return (v > 0.0) - (v < 0.0); }
 
 // ---------------------------------------------------------------------------------------
-// Expansions as vectors, for the rare exact stage of incircle.
+// Expansions in fixed buffers, for the exact stage of incircle. That stage is not rare: four
+// points of one circle (a hole's or a cylinder's outline) are cocircular to within rounding,
+// so every filter between them fails. With a heap-allocated vector for each step it took a
+// third of the plate-with-holes example's instructions (malloc and free most of them).
+//
+// Expansion<N> holds at most N components; each operation's bound follows from its inputs'
+// (a sum, the sum of theirs; a product by a double, twice; a product of expansions, twice
+// their product), so the compiler checks that every result fits. The determinant's bound is
+// 1,536 components (12 KB on the stack); zero elimination keeps the real counts far lower.
 
-using Expansion = std::vector<double>;
+template <size_t N>
+struct Expansion {
+    std::array<double, N> v;  // increasing magnitude, non-overlapping; never read past n
+    size_t n = 0;
+};
 
 // Sum of two non-overlapping expansions: merge by magnitude, then accumulate with two_sum
-// (Shewchuk's Fast-Expansion-Sum, with zero elimination).
-Expansion add(const Expansion& e, const Expansion& f) {
-    Expansion g;
-    g.reserve(e.size() + f.size());
-    std::merge(e.begin(), e.end(), f.begin(), f.end(), std::back_inserter(g),
-               [](double a, double b) { return std::fabs(a) < std::fabs(b); });
-    Expansion h;
-    if (g.empty()) return h;
-    h.reserve(g.size());
+// (Shewchuk's Fast-Expansion-Sum, with zero elimination). h has room for ne + nf.
+size_t add_into(const double* e, size_t ne, const double* f, size_t nf, double* h) {
+    if (ne + nf == 0) return 0;
+    // The merge goes to h itself: the accumulation below reads g[i] before it writes h[k],
+    // k < i, never ahead of what it reads.
+    double* g = h;
+    size_t i = 0, j = 0, k = 0;
+    while (i < ne && j < nf) g[k++] = std::fabs(f[j]) < std::fabs(e[i]) ? f[j++] : e[i++];
+    while (i < ne) g[k++] = e[i++];
+    while (j < nf) g[k++] = f[j++];
+    const size_t total = k;
     double q = g[0];
-    for (size_t i = 1; i < g.size(); ++i) {
-        double s, err;
-        two_sum(q, g[i], s, err);
-        if (err != 0.0) h.push_back(err);
-        q = s;
+    size_t out = 0;
+    for (size_t m = 1; m < total; ++m) {
+        double sum, err;
+        two_sum(q, g[m], sum, err);
+        if (err != 0.0) h[out++] = err;
+        q = sum;
     }
-    if (q != 0.0 || h.empty()) h.push_back(q);
+    if (q != 0.0 || out == 0) h[out++] = q;
+    return out;
+}
+
+template <size_t A, size_t B>
+Expansion<A + B> operator+(const Expansion<A>& e, const Expansion<B>& f) {
+    Expansion<A + B> h;
+    h.n = add_into(e.v.data(), e.n, f.v.data(), f.n, h.v.data());
     return h;
 }
 
-Expansion negate(Expansion e) {
-    for (double& v : e) v = -v;
+template <size_t A>
+Expansion<A> operator-(Expansion<A> e) {
+    for (size_t i = 0; i < e.n; ++i) e.v[i] = -e.v[i];
     return e;
 }
 
-// e * b for a double b (Scale-Expansion with zero elimination).
-Expansion scale(const Expansion& e, double b) {
-    Expansion h;
-    h.reserve(2 * e.size());
+// e * b for a double b (Scale-Expansion with zero elimination); h has room for 2 ne.
+size_t scale_into(const double* e, size_t ne, double b, double* h) {
     double q, err;
     two_product(e[0], b, q, err);
-    if (err != 0.0) h.push_back(err);
-    for (size_t i = 1; i < e.size(); ++i) {
-        double p1, p0, s;
+    size_t out = 0;
+    if (err != 0.0) h[out++] = err;
+    for (size_t i = 1; i < ne; ++i) {
+        double p1, p0, sum;
         two_product(e[i], b, p1, p0);
-        two_sum(q, p0, s, err);
-        if (err != 0.0) h.push_back(err);
-        two_sum(p1, s, q, err);
-        if (err != 0.0) h.push_back(err);
+        two_sum(q, p0, sum, err);
+        if (err != 0.0) h[out++] = err;
+        two_sum(p1, sum, q, err);
+        if (err != 0.0) h[out++] = err;
     }
-    if (q != 0.0 || h.empty()) h.push_back(q);
+    if (q != 0.0 || out == 0) h[out++] = q;
+    return out;
+}
+
+// e * f: the sum of e scaled by each component of f, in two buffers that take turns.
+template <size_t A, size_t B>
+Expansion<2 * A * B> operator*(const Expansion<A>& e, const Expansion<B>& f) {
+    Expansion<2 * A * B> h;
+    std::array<double, 2 * A * B> spare;
+    std::array<double, 2 * A> part;
+    double* acc = h.v.data();
+    double* next = spare.data();
+    size_t n = scale_into(e.v.data(), e.n, f.v[0], acc);
+    for (size_t j = 1; j < f.n; ++j) {
+        const size_t np = scale_into(e.v.data(), e.n, f.v[j], part.data());
+        n = add_into(acc, n, part.data(), np, next);
+        std::swap(acc, next);
+    }
+    if (acc != h.v.data()) std::copy_n(acc, n, h.v.data());
+    h.n = n;
     return h;
 }
 
-Expansion mul(const Expansion& e, const Expansion& f) {
-    Expansion acc{0.0};
-    for (double v : f) acc = add(acc, scale(e, v));
-    return acc;
-}
-
-Expansion diff(double a, double b) {
+// a - b exactly, one or two components.
+Expansion<2> diff(double a, double b) {
+    Expansion<2> d;
     double s, err;
     two_sum(a, -b, s, err);
-    if (err == 0.0) return {s};
-    return {err, s};
+    if (err != 0.0) d.v[d.n++] = err;
+    d.v[d.n++] = s;
+    return d;
+}
+
+// The determinant's sign from the six differences to d.
+template <size_t D>
+int incircle_sign(const Expansion<D>& adx, const Expansion<D>& ady, const Expansion<D>& bdx, const Expansion<D>& bdy,
+                  const Expansion<D>& cdx, const Expansion<D>& cdy) {
+    const auto alift = adx * adx + ady * ady;
+    const auto blift = bdx * bdx + bdy * bdy;
+    const auto clift = cdx * cdx + cdy * cdy;
+    const auto bc = bdx * cdy + -(cdx * bdy);
+    const auto ca = cdx * ady + -(adx * cdy);
+    const auto ab = adx * bdy + -(bdx * ady);
+    const auto det = alift * bc + blift * ca + clift * ab;
+    return sign_of(det.v[det.n - 1]);
 }
 
 int incircle_expansion(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
-    const Expansion adx = diff(a.x, d.x), ady = diff(a.y, d.y);
-    const Expansion bdx = diff(b.x, d.x), bdy = diff(b.y, d.y);
-    const Expansion cdx = diff(c.x, d.x), cdy = diff(c.y, d.y);
-    const Expansion alift = add(mul(adx, adx), mul(ady, ady));
-    const Expansion blift = add(mul(bdx, bdx), mul(bdy, bdy));
-    const Expansion clift = add(mul(cdx, cdx), mul(cdy, cdy));
-    const Expansion bc = add(mul(bdx, cdy), negate(mul(cdx, bdy)));
-    const Expansion ca = add(mul(cdx, ady), negate(mul(adx, cdy)));
-    const Expansion ab = add(mul(adx, bdy), negate(mul(bdx, ady)));
-    const Expansion det = add(add(mul(alift, bc), mul(blift, ca)), mul(clift, ab));
-    return sign_of(det.back());
+    const std::array<Expansion<2>, 6> t{diff(a.x, d.x), diff(a.y, d.y), diff(b.x, d.x),
+                                        diff(b.y, d.y), diff(c.x, d.x), diff(c.y, d.y)};
+    // Nearby points (within a factor of two in each coordinate) have exact differences:
+    // then the bounds, and the buffers, are 16 times smaller (96 components).
+    if (std::all_of(t.begin(), t.end(), [](const Expansion<2>& e) { return e.n == 1; })) {
+        std::array<Expansion<1>, 6> u;
+        for (size_t i = 0; i < 6; ++i) u[i] = {{t[i].v[0]}, 1};
+        return incircle_sign(u[0], u[1], u[2], u[3], u[4], u[5]);
+    }
+    return incircle_sign(t[0], t[1], t[2], t[3], t[4], t[5]);
 }
 
 int orient_expansion(Vec2 a, Vec2 b, Vec2 c) {
