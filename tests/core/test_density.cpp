@@ -155,6 +155,53 @@ TEST(Expression, BatchesGiveEachPointItsOwnValue) {
     }
 }
 
+// min, max and abs run without a call into the maths library, with a constant second
+// operand riding in the instruction; their values stay std::fmin's, std::fmax's and
+// std::fabs's to the bit, one point at a time and in batches: NaNs (the number wins; two
+// give a NaN), infinities, tiny and huge values. Of two zeros either sign is IEEE 754's
+// fmin and fmax (GCC's inline expansion and glibc's call differ), so only the value is
+// compared there.
+TEST(Expression, MinMaxAndAbsAreTheLibrarysToTheBit) {
+    const double inf = HUGE_VAL, nan = std::nan("");
+    const std::vector<double> values{0.0, -0.0, 1.5, -2.25, inf, -inf, nan, 1e-300, -7e300};
+    struct Case {
+        const char* text;
+        double (*expected)(double, double);
+    };
+    const Case cases[] = {
+        {"min(x, y)", [](double a, double b) { return std::fmin(a, b); }},
+        {"max(x, y)", [](double a, double b) { return std::fmax(a, b); }},
+        {"min(x, 0)", [](double a, double) { return std::fmin(a, 0.0); }},
+        {"max(x, -0)", [](double a, double) { return std::fmax(a, -0.0); }},
+        {"max(0, x)", [](double a, double) { return std::fmax(0.0, a); }},
+        {"min(-0, y)", [](double, double b) { return std::fmin(-0.0, b); }},
+        {"abs(x)", [](double a, double) { return std::fabs(a); }},
+        {"min(abs(x), y, 1.5)", [](double a, double b) { return std::fmin(std::fmin(std::fabs(a), b), 1.5); }},
+    };
+    std::vector<double> xs, ys;
+    for (const double a : values)
+        for (const double b : values) {
+            xs.push_back(a);
+            ys.push_back(b);
+        }
+    auto same = [](double got, double want) {
+        if (std::isnan(want)) return std::isnan(got);
+        if (want == 0.0) return got == 0.0;
+        return std::bit_cast<std::uint64_t>(got) == std::bit_cast<std::uint64_t>(want);
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.text);
+        const Expression e(c.text);
+        std::vector<double> out(xs.size());
+        e.evaluate(xs.data(), ys.data(), out.data(), xs.size());
+        for (size_t i = 0; i < xs.size(); ++i) {
+            const double want = c.expected(xs[i], ys[i]);
+            EXPECT_TRUE(same(e(xs[i], ys[i]), want)) << xs[i] << ", " << ys[i] << ": " << e(xs[i], ys[i]);
+            EXPECT_TRUE(same(out[i], want)) << xs[i] << ", " << ys[i] << " (batch): " << out[i];
+        }
+    }
+}
+
 TEST(Expression, SyntaxErrorsAreGeometryErrors) {
     for (const char* bad : {"x +", "sqrt(", "foo(x)", "z * 2", "", "   ", "x ? 1", "1 +* 2", "1.2.3", "x y", "(x",
                             "x)", "sqrt(x, y)", "pow(x)", "min()", "sqrt", "x = 1", "!x", "x ^", "2 ** 3"}) {

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "meshd/core/errors.hpp"
+#include "meshd/core/vec2.hpp"
 
 namespace meshd::core {
 
@@ -40,6 +41,8 @@ enum class Op : std::uint8_t {
     Call1, Call2,
     JumpIfZero, Jump,
     Sqrt,    // a call of sqrt, without the call (made by emit only)
+    Abs,     // a call of abs, the same
+    MinC, MaxC,  // min and max with a constant second operand (emit only)
     Select,  // c ? a : b over a batch: both branches computed, one kept per point (batch code only)
 };
 
@@ -391,6 +394,7 @@ struct Expression::Impl {
             case Op::Neg: case Op::Square: case Op::Call1:
                 emit(n, node.a, sp);
                 if (node.op == Op::Call1 && node.fn->f1 == f_sqrt) push({Op::Sqrt}, sp, 0);
+                else if (node.op == Op::Call1 && node.fn->f1 == f_abs) push({Op::Abs}, sp, 0);
                 else push({node.op, 0, 0.0, node.fn}, sp, 0);
                 return;
             case Op::Call2:
@@ -426,6 +430,12 @@ struct Expression::Impl {
             push({op, 0, value(node.b)}, sp, 0);
             return;
         }
+        // (Only a second operand for min and max: of two equal zeros they give the second.)
+        if (is_const(node.b) && (node.op == Op::Min || node.op == Op::Max)) {
+            emit(n, node.a, sp);
+            push({node.op == Op::Min ? Op::MinC : Op::MaxC, 0, value(node.b)}, sp, 0);
+            return;
+        }
         if (is_const(node.a) && (node.op == Op::Add || node.op == Op::Sub || node.op == Op::Mul || node.op == Op::Div)) {
             emit(n, node.b, sp);
             const Op op = node.op == Op::Add ? Op::AddC : node.op == Op::Sub ? Op::RSubC : node.op == Op::Mul ? Op::MulC : Op::RDivC;
@@ -456,6 +466,11 @@ struct Expression::Impl {
                 case Op::DivC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] /= in.value; break; }
                 case Op::RDivC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = in.value / t[i]; break; }
                 case Op::Sqrt: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = std::sqrt(t[i]); break; }
+                case Op::Abs: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = std::fabs(t[i]); break; }
+                case Op::MinC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = fmin_inline(t[i], in.value); break; }
+                case Op::MaxC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = fmax_inline(t[i], in.value); break; }
+                case Op::Min: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = fmin_inline(t[i], u[i]); break; }
+                case Op::Max: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = fmax_inline(t[i], u[i]); break; }
                 case Op::Call1: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = in.fn->f1(t[i]); break; }
                 case Op::Call2: {
                     --sp;
@@ -508,6 +523,9 @@ struct Expression::Impl {
                 case Op::DivC: at(sp) /= in->value; break;
                 case Op::RDivC: at(sp) = in->value / at(sp); break;
                 case Op::Sqrt: at(sp) = std::sqrt(at(sp)); break;
+                case Op::Abs: at(sp) = std::fabs(at(sp)); break;
+                case Op::MinC: at(sp) = fmin_inline(at(sp), in->value); break;
+                case Op::MaxC: at(sp) = fmax_inline(at(sp), in->value); break;
                 case Op::Call1: at(sp) = in->fn->f1(at(sp)); break;
                 // The commonest binary operators without apply()'s second dispatch.
                 case Op::Add: --sp; at(sp) += at(sp + 1); break;
@@ -516,6 +534,9 @@ struct Expression::Impl {
                 case Op::Div: --sp; at(sp) /= at(sp + 1); break;
                 case Op::Lt: --sp; at(sp) = at(sp) < at(sp + 1) ? 1.0 : 0.0; break;
                 case Op::Gt: --sp; at(sp) = at(sp) > at(sp + 1) ? 1.0 : 0.0; break;
+                // libm's fmin and fmax to the bit, without the call (vec2.hpp).
+                case Op::Min: --sp; at(sp) = fmin_inline(at(sp), at(sp + 1)); break;
+                case Op::Max: --sp; at(sp) = fmax_inline(at(sp), at(sp + 1)); break;
                 case Op::Call2: --sp; at(sp) = in->fn->f2(at(sp), at(sp + 1)); break;
                 case Op::JumpIfZero:
                     if (at(sp--) == 0.0) in = begin + in->target - 1;
