@@ -469,6 +469,9 @@ struct Expression::Impl {
                 case Op::Abs: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = std::fabs(t[i]); break; }
                 case Op::MinC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = fmin_inline(t[i], in.value); break; }
                 case Op::MaxC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = fmax_inline(t[i], in.value); break; }
+                case Op::Lt: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] < u[i] ? 1.0 : 0.0; break; }
+                case Op::Gt: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] > u[i] ? 1.0 : 0.0; break; }
+                case Op::And: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] != 0.0 && u[i] != 0.0 ? 1.0 : 0.0; break; }
                 case Op::Min: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = fmin_inline(t[i], u[i]); break; }
                 case Op::Max: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = fmax_inline(t[i], u[i]); break; }
                 case Op::Call1: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = in.fn->f1(t[i]); break; }
@@ -534,6 +537,10 @@ struct Expression::Impl {
                 case Op::Div: --sp; at(sp) /= at(sp + 1); break;
                 case Op::Lt: --sp; at(sp) = at(sp) < at(sp + 1) ? 1.0 : 0.0; break;
                 case Op::Gt: --sp; at(sp) = at(sp) > at(sp + 1) ? 1.0 : 0.0; break;
+                case Op::Le: --sp; at(sp) = at(sp) <= at(sp + 1) ? 1.0 : 0.0; break;
+                case Op::Ge: --sp; at(sp) = at(sp) >= at(sp + 1) ? 1.0 : 0.0; break;
+                case Op::And: --sp; at(sp) = at(sp) != 0.0 && at(sp + 1) != 0.0 ? 1.0 : 0.0; break;
+                case Op::Or: --sp; at(sp) = at(sp) != 0.0 || at(sp + 1) != 0.0 ? 1.0 : 0.0; break;
                 // libm's fmin and fmax to the bit, without the call (vec2.hpp).
                 case Op::Min: --sp; at(sp) = fmin_inline(at(sp), at(sp + 1)); break;
                 case Op::Max: --sp; at(sp) = fmax_inline(at(sp), at(sp + 1)); break;
