@@ -43,6 +43,7 @@ enum class Op : std::uint8_t {
     Sqrt,    // a call of sqrt, without the call (made by emit only)
     Abs,     // a call of abs, the same
     MinC, MaxC,  // min and max with a constant second operand (emit only)
+    LtC, GtC, LeC, GeC,  // comparisons with a constant second operand (emit only)
     Select,  // c ? a : b over a batch: both branches computed, one kept per point (batch code only)
 };
 
@@ -436,6 +437,12 @@ struct Expression::Impl {
             push({node.op == Op::Min ? Op::MinC : Op::MaxC, 0, value(node.b)}, sp, 0);
             return;
         }
+        if (is_const(node.b) && (node.op == Op::Lt || node.op == Op::Gt || node.op == Op::Le || node.op == Op::Ge)) {
+            emit(n, node.a, sp);
+            const Op op = node.op == Op::Lt ? Op::LtC : node.op == Op::Gt ? Op::GtC : node.op == Op::Le ? Op::LeC : Op::GeC;
+            push({op, 0, value(node.b)}, sp, 0);
+            return;
+        }
         if (is_const(node.a) && (node.op == Op::Add || node.op == Op::Sub || node.op == Op::Mul || node.op == Op::Div)) {
             emit(n, node.b, sp);
             const Op op = node.op == Op::Add ? Op::AddC : node.op == Op::Sub ? Op::RSubC : node.op == Op::Mul ? Op::MulC : Op::RDivC;
@@ -469,6 +476,10 @@ struct Expression::Impl {
                 case Op::Abs: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = std::fabs(t[i]); break; }
                 case Op::MinC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = fmin_inline(t[i], in.value); break; }
                 case Op::MaxC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = fmax_inline(t[i], in.value); break; }
+                case Op::LtC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = t[i] < in.value ? 1.0 : 0.0; break; }
+                case Op::GtC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = t[i] > in.value ? 1.0 : 0.0; break; }
+                case Op::LeC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = t[i] <= in.value ? 1.0 : 0.0; break; }
+                case Op::GeC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = t[i] >= in.value ? 1.0 : 0.0; break; }
                 case Op::Lt: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] < u[i] ? 1.0 : 0.0; break; }
                 case Op::Gt: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] > u[i] ? 1.0 : 0.0; break; }
                 case Op::And: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] != 0.0 && u[i] != 0.0 ? 1.0 : 0.0; break; }
@@ -529,6 +540,10 @@ struct Expression::Impl {
                 case Op::Abs: at(sp) = std::fabs(at(sp)); break;
                 case Op::MinC: at(sp) = fmin_inline(at(sp), in->value); break;
                 case Op::MaxC: at(sp) = fmax_inline(at(sp), in->value); break;
+                case Op::LtC: at(sp) = at(sp) < in->value ? 1.0 : 0.0; break;
+                case Op::GtC: at(sp) = at(sp) > in->value ? 1.0 : 0.0; break;
+                case Op::LeC: at(sp) = at(sp) <= in->value ? 1.0 : 0.0; break;
+                case Op::GeC: at(sp) = at(sp) >= in->value ? 1.0 : 0.0; break;
                 case Op::Call1: at(sp) = in->fn->f1(at(sp)); break;
                 // The commonest binary operators without apply()'s second dispatch.
                 case Op::Add: --sp; at(sp) += at(sp + 1); break;
