@@ -482,7 +482,10 @@ struct Expression::Impl {
                 case Op::GeC: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = t[i] >= in.value ? 1.0 : 0.0; break; }
                 case Op::Lt: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] < u[i] ? 1.0 : 0.0; break; }
                 case Op::Gt: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] > u[i] ? 1.0 : 0.0; break; }
+                case Op::Le: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] <= u[i] ? 1.0 : 0.0; break; }
+                case Op::Ge: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] >= u[i] ? 1.0 : 0.0; break; }
                 case Op::And: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] != 0.0 && u[i] != 0.0 ? 1.0 : 0.0; break; }
+                case Op::Or: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = t[i] != 0.0 || u[i] != 0.0 ? 1.0 : 0.0; break; }
                 case Op::Min: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = fmin_inline(t[i], u[i]); break; }
                 case Op::Max: { --sp; double* t = top(sp); const double* u = top(sp + 1); for (size_t i = 0; i < n; ++i) t[i] = fmax_inline(t[i], u[i]); break; }
                 case Op::Call1: { double* t = top(sp); for (size_t i = 0; i < n; ++i) t[i] = in.fn->f1(t[i]); break; }

@@ -72,8 +72,8 @@ struct Expansion {
 // (Shewchuk's Fast-Expansion-Sum, with zero elimination). h has room for ne + nf.
 size_t add_into(const double* e, size_t ne, const double* f, size_t nf, double* h) {
     if (ne + nf == 0) return 0;
-    // The merge goes to h itself: the accumulation below reads g[i] before it writes h[k],
-    // k < i, never ahead of what it reads.
+    // The merge goes to h itself: at step m the accumulation below reads g[m] before it
+    // writes h[out], out < m, so it never overwrites what it has yet to read.
     double* g = h;
     size_t i = 0, j = 0, k = 0;
     while (i < ne && j < nf) g[k++] = std::fabs(f[j]) < std::fabs(e[i]) ? f[j++] : e[i++];
