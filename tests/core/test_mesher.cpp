@@ -272,6 +272,39 @@ TEST(Mesher, AGradationsSamplesAreOneToFourInASquareOfTheLocalSize) {
     EXPECT_LE(interior, 4.0 * area_hi / (h * h) + 4.0 * (2.0 * std::numbers::pi * radius) / h);
 }
 
+// Each triangle of the boundary's triangulation has the samples a walk of its own cells finds
+// (estimate.cpp), though the triangles share one walk of the lattice: in a far field, where
+// slivers from the airfoil to the circle cross the same cells, with a refinement box whose
+// jump the gradation spreads and a size at the trailing edge far below the size a little away
+// from it (so a cell holding that point is split further for the triangles of that point
+// alone). Counted from the bytes
+// reported: the whole triangulation at once, and each of its triangles alone (each with a size field of its own, as the samples
+// become the field's gradation).
+TEST(Mesher, AGradationsSamplesAreEachTrianglesOwn) {
+    const Domain dom = build_domain(naca_in_circle("0012", 5.0));
+    DensitySpec spec =
+        density_of("min(x > -0.2 && x < 3 && abs(y) < 0.4 ? 0.02 : 0.3, 0.001 + 10 * sqrt((x - 1)^2 + y^2))");
+    spec.gradation = 1.5;
+    SizeField rho(spec, dom);
+    const Discretisation d = discretise_boundary(dom, rho);
+    const BoundaryTriangulation walls = triangulate_boundary(d);
+    auto samples = [&](const BoundaryTriangulation& w) {
+        SizeField own(spec, dom);
+        return set_gradation_sources(own, d, w, kMaxPointsLimit) / kGradationBytesPerSource - d.size();
+    };
+    const size_t together = samples(walls);
+    size_t alone = 0;
+    BoundaryTriangulation one;
+    one.points = walls.points;
+    for (const Triangle& t : walls.triangles) {
+        one.triangles.assign(1, t);
+        alone += samples(one);
+    }
+    EXPECT_EQ(together, alone);
+    // At least one a square of the box's size (its area 3.2 x 0.8, the airfoil's under 0.1).
+    EXPECT_GE(static_cast<double>(together), (3.2 * 0.8 - 0.1) / (0.02 * 0.02));
+}
+
 // The cells reach past the domain, but a field finer beyond it than in it does not split them
 // down to its size: on the unit square under 0.1, with 10^-6 beyond its right side, the
 // sampling visits a few hundred cells, fewer than the 65,536 between two polls of the

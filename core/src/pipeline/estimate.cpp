@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -111,16 +112,23 @@ void for_each_sample(const BoundaryTriangulation& walls, const SizeField& rho, O
 }
 
 // Visits samples (place, rho) of the domain on square cells of one lattice: the cells of
-// side S / 2^l from the corner of the boundary's box (S a power of two at least its extent),
-// each split in four while its side is above the finest of rho at its centre, rho at both
-// ends of one of its sides (the larger of the two; a fine region along a wall reaches the
-// corners on it), and rho at a boundary point inside it of the triangle being covered. Each
-// triangle of the boundary's triangulation is covered by the cells that meet it; a leaf
-// whose centre is in the triangle is its sample, of the cell's area. Unlike the bisection
-// above, whose leaves in the slivers of such a triangulation are many to a size squared (2.8
-// million samples for the 145,000 points of a far field), there are one to four samples a
-// size squared wherever the triangles lie. f returns false to stop; the visits stop after
-// max_visits.
+// side S / 2^l from the corner of the boundary's box (S a power of two at least its extent).
+// Each triangle of the boundary's triangulation is covered by the cells that meet it, from the
+// level whose cells are at least its extent down: such a cell is split in four while its side
+// is above the finest of rho at its centre, rho at both ends of one of its sides (the larger of
+// the two; a fine region along a wall reaches the corners on it), and rho at a corner of the
+// triangle inside it. A leaf whose centre is in the triangle is its sample, of the cell's area.
+// Unlike the bisection above, whose leaves in the slivers of such a triangulation are many to
+// a size squared (2.8 million samples for the 145,000 points of a far field), there are one to
+// four samples a size squared wherever the triangles lie. f returns false to stop; the visits
+// (a cell for a triangle) stop after max_visits.
+//
+// The triangles share one walk of the lattice: a cell carries the triangles that still meet
+// it, and rho at its centre and at the middles of its sides is evaluated once for all of
+// them. Each triangle's leaves are those of a walk of its own (the split asks the same of the
+// same lattice points); walked one triangle at a time, a cell that several slivers of a far
+// field cross was evaluated for each (a NACA 0012 wake box: 6 evaluations of rho a lattice
+// point, a quarter of the run).
 template <class F>
 void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& rho, Observer* observer,
                           double max_visits, F&& f) {
@@ -140,84 +148,118 @@ void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& r
     // sample instead of 1. Holes are inside the box: a field much finer inside a hole than
     // around it still splits the cells along its edge.)
     auto at = [&](Vec2 p) { return box.contains(p) ? rho_or_infinity(rho, p) : HUGE_VAL; };
-    PointSizes at_point(rho, pts);
-    // A cell and rho at its corners (in the order of `q` below), which its parent evaluated.
-    struct Cell {
-        std::int64_t i, j;
-        int level;
-        std::array<double, 4> rq;
-    };
     auto corner_of = [&](std::int64_t i, std::int64_t j, double cs) {
         return Vec2{origin.x + static_cast<double>(i) * cs, origin.y + static_cast<double>(j) * cs};
     };
-    std::vector<Cell> stack;
-    std::uint64_t visited = 0;
-    for (const Triangle& t : walls.triangles) {
-        const Vec2 v[3] = {pts[t.v[0]], pts[t.v[1]], pts[t.v[2]]};
-        const double rv[3] = {at_point(t.v[0]), at_point(t.v[1]), at_point(t.v[2])};
-        const double side_length[3] = {distance(v[0], v[1]), distance(v[1], v[2]), distance(v[2], v[0])};
+    PointSizes at_point(rho, pts);
+    struct Tri {
+        Vec2 v[3];
+        double rv[3];
+        double side_length[3];
         Box tb;
-        for (const Vec2& p : v) tb.add(p);
-        // The level whose cells are at least the triangle's extent: at most two a side meet it.
-        int level = 0;
-        double s = side;
-        const double te = std::fmax(tb.hi.x - tb.lo.x, tb.hi.y - tb.lo.y);
-        while (level < 60 && 0.5 * s >= te) {
-            s *= 0.5;
-            ++level;
+        int level;  // the level whose cells are at least its extent: at most two a side meet it
+    };
+    std::vector<Tri> tris;
+    tris.reserve(walls.triangles.size());
+    for (const Triangle& t : walls.triangles) {
+        Tri x{};
+        for (size_t k = 0; k < 3; ++k) {
+            x.v[k] = pts[t.v[k]];
+            x.rv[k] = at_point(t.v[k]);
+            x.tb.add(x.v[k]);
         }
-        const auto first_i = static_cast<std::int64_t>(std::floor((tb.lo.x - origin.x) / s));
-        const auto first_j = static_cast<std::int64_t>(std::floor((tb.lo.y - origin.y) / s));
-        for (std::int64_t di = 0; di < 2; ++di)
-            for (std::int64_t dj = 0; dj < 2; ++dj) {
-                const std::int64_t i = first_i + di, j = first_j + dj;
-                stack.push_back({i, j, level,
-                                 {at(corner_of(i, j, s)), at(corner_of(i + 1, j, s)), at(corner_of(i + 1, j + 1, s)),
-                                  at(corner_of(i, j + 1, s))}});
+        for (size_t k = 0; k < 3; ++k) x.side_length[k] = distance(x.v[k], x.v[(k + 1) % 3]);
+        double s = side;
+        const double te = std::fmax(x.tb.hi.x - x.tb.lo.x, x.tb.hi.y - x.tb.lo.y);
+        while (x.level < 60 && 0.5 * s >= te) {
+            s *= 0.5;
+            ++x.level;
+        }
+        tris.push_back(x);
+    }
+    if (tris.empty()) return;
+    // A cell, rho at its corners (in the order of `q` below), which its parent evaluated, and
+    // its triangles: entries [begin, end) of `carried`. A cell's children share their
+    // parent's list of the triangles split there; as the walk is depth first, the lists of a
+    // cell's finished descendants are above its own when it is taken, and are dropped then.
+    struct Cell {
+        std::int64_t i, j;
+        int level;
+        double cs;
+        std::array<double, 4> rq;
+        std::uint32_t begin, end;
+    };
+    std::vector<std::uint32_t> carried(tris.size());
+    std::iota(carried.begin(), carried.end(), 0u);
+    std::vector<Cell> stack;
+    stack.push_back({0, 0, 0, side,
+                     {at(corner_of(0, 0, side)), at(corner_of(1, 0, side)), at(corner_of(1, 1, side)),
+                      at(corner_of(0, 1, side))},
+                     0, static_cast<std::uint32_t>(tris.size())});
+    std::uint64_t visited = 0;
+    while (!stack.empty()) {
+        const Cell c = stack.back();
+        stack.pop_back();
+        carried.resize(c.end);
+        const double cs = c.cs, half = 0.5 * cs;
+        const Vec2 lo = corner_of(c.i, c.j, cs), hi = corner_of(c.i + 1, c.j + 1, cs);
+        const Vec2 q[4] = {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
+        const std::array<double, 4>& rq = c.rq;
+        // The centre, as a child's corner would be placed; rho there once a triangle asks.
+        const Vec2 m = corner_of(2 * c.i + 1, 2 * c.j + 1, half);
+        double r = 0.0, shared = 0.0;
+        bool evaluated = false;
+        const auto split_from = static_cast<std::uint32_t>(carried.size());
+        for (std::uint32_t k = c.begin; k < c.end; ++k) {
+            const std::uint32_t ti = carried[k];
+            const Tri& t = tris[ti];
+            if (hi.x < t.tb.lo.x || lo.x > t.tb.hi.x || hi.y < t.tb.lo.y || lo.y > t.tb.hi.y) continue;
+            if (c.level < t.level) {  // above the triangle's own level: on to its cells
+                carried.push_back(ti);
+                continue;
             }
-        while (!stack.empty()) {
-            const Cell c = stack.back();
-            stack.pop_back();
-            const double cs = std::ldexp(side, -c.level), half = 0.5 * cs;
-            const Vec2 lo = corner_of(c.i, c.j, cs), hi = corner_of(c.i + 1, c.j + 1, cs);
-            if (hi.x < tb.lo.x || lo.x > tb.hi.x || hi.y < tb.lo.y || lo.y > tb.hi.y) continue;
             // Separated by a side of the (counter-clockwise) triangle: every corner beyond it.
-            const Vec2 q[4] = {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
-            const std::array<double, 4>& rq = c.rq;
             bool apart = false;
             for (int e = 0; e < 3 && !apart; ++e) {
-                const Vec2 a = v[e], b = v[(e + 1) % 3];
-                const double tol = 1e-12 * (side_length[e] + cs) * (side_length[e] + cs);
+                const Vec2 a = t.v[e], b = t.v[(e + 1) % 3];
+                const double tol = 1e-12 * (t.side_length[e] + cs) * (t.side_length[e] + cs);
                 apart = true;
                 for (const Vec2& p : q) apart = apart && cross(b - a, p - a) < -tol;
             }
             if (apart) continue;
             if ((++visited & 0xffff) == 0 && observer && observer->should_stop()) throw Cancelled();
             if (static_cast<double>(visited) > max_visits) return;
-            // The centre, as a child's corner would be placed.
-            const Vec2 m = corner_of(2 * c.i + 1, 2 * c.j + 1, half);
-            const double r = at(m);
-            double finest = r;
-            for (size_t k = 0; k < 4; ++k) finest = std::fmin(finest, std::fmax(rq[k], rq[(k + 1) % 4]));
-            for (int k = 0; k < 3; ++k)
-                if (v[k].x >= lo.x && v[k].x <= hi.x && v[k].y >= lo.y && v[k].y <= hi.y) finest = std::fmin(finest, rv[k]);
+            if (!evaluated) {
+                r = at(m);
+                shared = r;
+                for (size_t e = 0; e < 4; ++e) shared = std::fmin(shared, std::fmax(rq[e], rq[(e + 1) % 4]));
+                evaluated = true;
+            }
+            double finest = shared;
+            for (int e = 0; e < 3; ++e)
+                if (t.v[e].x >= lo.x && t.v[e].x <= hi.x && t.v[e].y >= lo.y && t.v[e].y <= hi.y)
+                    finest = std::fmin(finest, t.rv[e]);
             if (cs > finest && c.level < 60) {
-                // The children's corners: the cell's own, the middles of its sides, its centre.
-                const std::int64_t i = 2 * c.i, j = 2 * c.j;
-                const double below = at(corner_of(i + 1, j, half)), right = at(corner_of(i + 2, j + 1, half));
-                const double above = at(corner_of(i + 1, j + 2, half)), left = at(corner_of(i, j + 1, half));
-                const int next = c.level + 1;
-                stack.push_back({i, j, next, {rq[0], below, r, left}});
-                stack.push_back({i + 1, j, next, {below, rq[1], right, r}});
-                stack.push_back({i + 1, j + 1, next, {r, right, rq[2], above}});
-                stack.push_back({i, j + 1, next, {left, r, above, rq[3]}});
+                carried.push_back(ti);
                 continue;
             }
-            if (!std::isfinite(r) || orient2d(v[0], v[1], m) == Orientation::Right ||
-                orient2d(v[1], v[2], m) == Orientation::Right || orient2d(v[2], v[0], m) == Orientation::Right)
+            if (!std::isfinite(r) || orient2d(t.v[0], t.v[1], m) == Orientation::Right ||
+                orient2d(t.v[1], t.v[2], m) == Orientation::Right || orient2d(t.v[2], t.v[0], m) == Orientation::Right)
                 continue;
             if (!f(m, r, cs * cs)) return;
         }
+        const auto split_to = static_cast<std::uint32_t>(carried.size());
+        if (split_to == split_from) continue;
+        // The children's corners: the cell's own, the middles of its sides, its centre.
+        if (!evaluated) r = at(m);
+        const std::int64_t i = 2 * c.i, j = 2 * c.j;
+        const double below = at(corner_of(i + 1, j, half)), right = at(corner_of(i + 2, j + 1, half));
+        const double above = at(corner_of(i + 1, j + 2, half)), left = at(corner_of(i, j + 1, half));
+        const int next = c.level + 1;
+        stack.push_back({i, j, next, half, {rq[0], below, r, left}, split_from, split_to});
+        stack.push_back({i + 1, j, next, half, {below, rq[1], right, r}, split_from, split_to});
+        stack.push_back({i + 1, j + 1, next, half, {r, right, rq[2], above}, split_from, split_to});
+        stack.push_back({i, j + 1, next, half, {left, r, above, rq[3]}, split_from, split_to});
     }
 }
 
