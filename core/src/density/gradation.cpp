@@ -62,7 +62,7 @@ GradationField::GradationField(std::span<const Vec2> sources, std::span<const do
         for (size_t k = tree.size(); k-- > 0;) {
             const detail::KdNode& t = tree[k];
             Node& nd = nodes_[k];
-            nd = {t.box, 0.5 * (t.box.lo + t.box.hi), HUGE_VAL, t.begin, t.end, t.left, t.right};
+            nd = {t.box, HUGE_VAL, t.begin, t.end, t.left, t.right};
             if (t.left == 0)
                 for (std::uint32_t i = t.begin; i < t.end; ++i) nd.hmin = std::fmin(nd.hmin, h_[i]);
             else
@@ -100,7 +100,6 @@ std::uint32_t GradationField::build(std::uint32_t lb, std::uint32_t le, std::uin
             nd.hmin = std::fmin(nd.hmin, nodes_[c].hmin);
         }
     }
-    nd.mid = 0.5 * (nd.box.lo + nd.box.hi);
     nodes_[id] = nd;
     return id;
 }
@@ -150,20 +149,49 @@ double GradationField::least_cone(std::uint32_t b, std::uint32_t e, Vec2 x) cons
 }
 #endif
 
+// Depth first, each node's bound made where its parent is taken: a child whose bound is not
+// below the least found is never stacked, and of two the one with the lower bound is taken
+// first (its cones lower `best` sooner; the order never changes the least cone found). A
+// stacked node is looked at again when taken, against the least found by then.
 double GradationField::search(Vec2 x, double upper) const {
     double best = upper;
-    detail::depth_first(nodes_, [&](const Node& n) {
-        if (n.hmin + slope_ * std::sqrt(n.box.distance2(x)) >= best) return detail::Descend::No;
+    auto bound = [&](const Node& n) {
+        // At or above `best` already by its least size: no distance needed.
+        return n.hmin >= best ? n.hmin : n.hmin + slope_ * std::sqrt(n.box.distance2(x));
+    };
+    struct Entry {
+        std::uint32_t node;
+        double bound;
+    };
+    Entry stack[128];  // at most one a level waits beside the path; the trees are far shallower
+    int top = 0;
+    const double root = bound(nodes_[0]);
+    if (root >= best) return best;
+    stack[top++] = {0, root};
+    while (top > 0) {
+        const Entry e = stack[--top];
+        if (e.bound >= best) continue;
+        const Node& n = nodes_[e.node];
         if (n.left == 0) {
             best = fmin_inline(best, least_cone(n.begin, n.end, x));
-            return detail::Descend::No;
+            continue;
         }
-        // The nearer child first: its cones lower `best` sooner. (Squared distances: the
-        // order only changes how soon `best` falls, never the least cone found.)
-        const double dl = norm2(x - nodes_[n.left].mid);
-        const double dr = norm2(x - nodes_[n.right].mid);
-        return dl < dr ? detail::Descend::LeftFirst : detail::Descend::RightFirst;
-    });
+        const double bl = bound(nodes_[n.left]), br = bound(nodes_[n.right]);
+        const bool left = bl < best, right = br < best;
+        if (left && right) {
+            if (bl <= br) {
+                stack[top++] = {n.right, br};
+                stack[top++] = {n.left, bl};
+            } else {
+                stack[top++] = {n.left, bl};
+                stack[top++] = {n.right, br};
+            }
+        } else if (left) {
+            stack[top++] = {n.left, bl};
+        } else if (right) {
+            stack[top++] = {n.right, br};
+        }
+    }
     return best;
 }
 

@@ -49,7 +49,6 @@ private:
 
     struct Node {
         Box box;
-        Vec2 mid;  // the box's centre
         double hmin;
         std::uint32_t begin, end, left, right;
     };
