@@ -520,57 +520,68 @@ struct Expression::Impl {
         for (size_t i = 0; i < n; ++i) out[i] = st[0][i];
     }
 
+    // The value on top of the stack is kept apart from those below it (in a register, where
+    // the stack itself is memory): an instruction on the top alone touches no memory, a push
+    // stores the old top, a binary operator takes its first operand from below.
     double run(double x, double y) const {
-        std::array<double, kMaxStack> st;
-        auto at = [&st](int i) -> double& { return st[static_cast<size_t>(i)]; };
-        int sp = -1;  // index of the top value
+        std::array<double, kMaxStack> below;
+        double top = 0.0;
+        int sp = -1;  // index of the value below the top
+        auto push = [&](double v) {
+            below[static_cast<size_t>(++sp)] = top;
+            top = v;
+        };
+        auto pop = [&]() { return below[static_cast<size_t>(sp--)]; };
         const Instr* const begin = code.data();
         const Instr* const end = begin + code.size();
         for (const Instr* in = begin; in != end; ++in) {
             switch (in->op) {
-                case Op::Const: at(++sp) = in->value; break;
-                case Op::X: at(++sp) = x; break;
-                case Op::Y: at(++sp) = y; break;
-                case Op::Neg: at(sp) = -at(sp); break;
-                case Op::Square: at(sp) *= at(sp); break;
-                case Op::AddC: at(sp) += in->value; break;
-                case Op::SubC: at(sp) -= in->value; break;
-                case Op::RSubC: at(sp) = in->value - at(sp); break;
-                case Op::MulC: at(sp) *= in->value; break;
-                case Op::DivC: at(sp) /= in->value; break;
-                case Op::RDivC: at(sp) = in->value / at(sp); break;
-                case Op::Sqrt: at(sp) = std::sqrt(at(sp)); break;
-                case Op::Abs: at(sp) = std::fabs(at(sp)); break;
-                case Op::MinC: at(sp) = fmin_inline(at(sp), in->value); break;
-                case Op::MaxC: at(sp) = fmax_inline(at(sp), in->value); break;
-                case Op::LtC: at(sp) = at(sp) < in->value ? 1.0 : 0.0; break;
-                case Op::GtC: at(sp) = at(sp) > in->value ? 1.0 : 0.0; break;
-                case Op::LeC: at(sp) = at(sp) <= in->value ? 1.0 : 0.0; break;
-                case Op::GeC: at(sp) = at(sp) >= in->value ? 1.0 : 0.0; break;
-                case Op::Call1: at(sp) = in->fn->f1(at(sp)); break;
+                case Op::Const: push(in->value); break;
+                case Op::X: push(x); break;
+                case Op::Y: push(y); break;
+                case Op::Neg: top = -top; break;
+                case Op::Square: top *= top; break;
+                case Op::AddC: top += in->value; break;
+                case Op::SubC: top -= in->value; break;
+                case Op::RSubC: top = in->value - top; break;
+                case Op::MulC: top *= in->value; break;
+                case Op::DivC: top /= in->value; break;
+                case Op::RDivC: top = in->value / top; break;
+                case Op::Sqrt: top = std::sqrt(top); break;
+                case Op::Abs: top = std::fabs(top); break;
+                case Op::MinC: top = fmin_inline(top, in->value); break;
+                case Op::MaxC: top = fmax_inline(top, in->value); break;
+                case Op::LtC: top = top < in->value ? 1.0 : 0.0; break;
+                case Op::GtC: top = top > in->value ? 1.0 : 0.0; break;
+                case Op::LeC: top = top <= in->value ? 1.0 : 0.0; break;
+                case Op::GeC: top = top >= in->value ? 1.0 : 0.0; break;
+                case Op::Call1: top = in->fn->f1(top); break;
                 // The commonest binary operators without apply()'s second dispatch.
-                case Op::Add: --sp; at(sp) += at(sp + 1); break;
-                case Op::Sub: --sp; at(sp) -= at(sp + 1); break;
-                case Op::Mul: --sp; at(sp) *= at(sp + 1); break;
-                case Op::Div: --sp; at(sp) /= at(sp + 1); break;
-                case Op::Lt: --sp; at(sp) = at(sp) < at(sp + 1) ? 1.0 : 0.0; break;
-                case Op::Gt: --sp; at(sp) = at(sp) > at(sp + 1) ? 1.0 : 0.0; break;
-                case Op::Le: --sp; at(sp) = at(sp) <= at(sp + 1) ? 1.0 : 0.0; break;
-                case Op::Ge: --sp; at(sp) = at(sp) >= at(sp + 1) ? 1.0 : 0.0; break;
-                case Op::And: --sp; at(sp) = at(sp) != 0.0 && at(sp + 1) != 0.0 ? 1.0 : 0.0; break;
-                case Op::Or: --sp; at(sp) = at(sp) != 0.0 || at(sp + 1) != 0.0 ? 1.0 : 0.0; break;
+                case Op::Add: top = pop() + top; break;
+                case Op::Sub: top = pop() - top; break;
+                case Op::Mul: top = pop() * top; break;
+                case Op::Div: top = pop() / top; break;
+                case Op::Lt: top = pop() < top ? 1.0 : 0.0; break;
+                case Op::Gt: top = pop() > top ? 1.0 : 0.0; break;
+                case Op::Le: top = pop() <= top ? 1.0 : 0.0; break;
+                case Op::Ge: top = pop() >= top ? 1.0 : 0.0; break;
+                case Op::And: { const double a = pop(); top = a != 0.0 && top != 0.0 ? 1.0 : 0.0; break; }
+                case Op::Or: { const double a = pop(); top = a != 0.0 || top != 0.0 ? 1.0 : 0.0; break; }
                 // libm's fmin and fmax to the bit, without the call (vec2.hpp).
-                case Op::Min: --sp; at(sp) = fmin_inline(at(sp), at(sp + 1)); break;
-                case Op::Max: --sp; at(sp) = fmax_inline(at(sp), at(sp + 1)); break;
-                case Op::Call2: --sp; at(sp) = in->fn->f2(at(sp), at(sp + 1)); break;
-                case Op::JumpIfZero:
-                    if (at(sp--) == 0.0) in = begin + in->target - 1;
+                case Op::Min: top = fmin_inline(pop(), top); break;
+                case Op::Max: top = fmax_inline(pop(), top); break;
+                case Op::Call2: top = in->fn->f2(pop(), top); break;
+                case Op::JumpIfZero: {
+                    const double condition = top;
+                    top = pop();
+                    if (condition == 0.0) in = begin + in->target - 1;
                     break;
+                }
                 case Op::Jump: in = begin + in->target - 1; break;
-                default: --sp; at(sp) = apply(in->op, at(sp), at(sp + 1)); break;
+                default: top = apply(in->op, pop(), top); break;
             }
         }
-        return st[0];
+        return top;
     }
 };
 
