@@ -19,11 +19,18 @@ namespace meshd::core {
 // whatever the layout. Two layouts, by how the sources lie (Spread in gradation.hpp):
 // - along curves, a k-d tree of median splits (detail::build_kd) over copies of the sources:
 //   its boxes do not overlap;
-// - over the domain, the sources along a Hilbert curve (a radix sort), eight to a leaf, and a
-//   balanced binary tree over the leaves, each node's box and least size its children's: the
-//   boxes overlap a little, but the build makes no comparisons to mispredict. With median
-//   splits, the build was 28% of the NACA 0006 far field's run under a gradation of 1.5
-//   (2.8 million sources), and with this tree the run went from 2.3 to 1.7 s.
+// - over the domain, the sources along a Hilbert curve (a radix sort), kLeafSize to a leaf,
+//   and a balanced binary tree over the leaves, each node's box and least size its
+//   children's: the boxes overlap a little, but the build makes no comparisons to
+//   mispredict. With median splits, the build was 28% of the NACA 0006 far field's run under
+//   a gradation of 1.5 (2.8 million sources), and with this tree the run went from 2.3 to
+//   1.7 s.
+// Leaves of 32 rather than 8 (of 16 to 32 sources in the k-d tree rather than 4 to 8): a
+// leaf's cones, four to an AVX step, cost less than the nodes a search passes through to
+// reach fewer of them. Where the field's cones come below it (beside a refinement box's edge,
+// a field that swings faster than the ratio allows) a search looks at every leaf about as
+// far as the nearest fine source, and larger leaves are fewer of them: `bench/hard/sine_fast`
+// 333.5 -> 316.4 M instructions, `channel_thin` 120.5 -> 112.4 M, no request more.
 GradationField::GradationField(std::span<const Vec2> sources, std::span<const double> sizes, double ratio,
                                Spread spread)
     : slope_(ratio - 1.0), search_factor_(spread == Spread::Curves ? 4.0 : 1.0) {

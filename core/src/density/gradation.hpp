@@ -43,7 +43,7 @@ public:
     double capped(Vec2 x, double upper) const;
 
 private:
-    static constexpr std::uint32_t kLeafSize = 8;
+    static constexpr std::uint32_t kLeafSize = 32;
     std::uint32_t build(std::uint32_t lb, std::uint32_t le, std::uint32_t n);
     double search(Vec2 x, double upper) const;
 
