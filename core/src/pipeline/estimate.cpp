@@ -185,7 +185,7 @@ void for_each_cell_sample(const BoundaryTriangulation& walls, const SizeField& r
     struct Cell {
         std::int64_t i, j;
         int level;
-        double cs;
+        double cs;  // its side: its parent's halved, exactly (no ldexp a cell)
         std::array<double, 4> rq;
         std::uint32_t begin, end;
     };
